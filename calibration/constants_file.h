@@ -1,0 +1,28 @@
+#ifndef SOFTBENCH_CALIBRATION_CONSTANTS_FILE_H_
+#define SOFTBENCH_CALIBRATION_CONSTANTS_FILE_H_
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "model/actuator_model.h"
+
+namespace softbench {
+
+// An actuator constants file (samples/constants/thesis.yaml), the product of
+// characterisation and the input of every model command: the four fitted
+// constants and, optionally, L0 and the variant they were fitted for.
+struct ConstantsFile {
+  ActuatorConstants constants;
+  std::optional<std::string> variant;  // "small-angle", "full-trig", ...
+};
+
+// Parses a constants YAML document; throws InputError naming the line and
+// key. `source` names the document in messages.
+ConstantsFile ParseConstantsYaml(std::string_view yaml,
+                                 const std::string& source);
+ConstantsFile LoadConstantsFile(const std::string& path);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_CALIBRATION_CONSTANTS_FILE_H_

@@ -1,0 +1,140 @@
+#include "model/workspace.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <thread>
+
+namespace softbench {
+namespace {
+
+// A base-`radix` counter over the actuators' level indices (most significant
+// first) and its reflected (boustrophedon) Gray code: a digit is mirrored when
+// the counter digits above it sum to an odd number, so consecutive codes
+// differ by one level of one actuator.
+class GrayCounter {
+ public:
+  GrayCounter(long long start, int radix, int num_digits)
+      : radix_(radix), counter_(num_digits), gray_(num_digits) {
+    for (int i = num_digits - 1; i >= 0; --i, start /= radix) {
+      counter_[i] = static_cast<int>(start % radix);
+    }
+    UpdateGray();
+  }
+  const std::vector<int>& digits() const { return gray_; }
+  void Increment() {
+    for (int i = static_cast<int>(counter_.size()) - 1; i >= 0; --i) {
+      if (++counter_[i] < radix_) break;
+      counter_[i] = 0;
+    }
+    UpdateGray();
+  }
+  // Row of the current configuration in lexicographic order of its levels.
+  long long LexicographicIndex() const {
+    long long index = 0;
+    for (int d : gray_) index = index * radix_ + d;
+    return index;
+  }
+
+ private:
+  void UpdateGray() {
+    int higher_sum = 0;
+    for (size_t i = 0; i < counter_.size(); ++i) {
+      gray_[i] = higher_sum % 2 == 1 ? radix_ - 1 - counter_[i] : counter_[i];
+      higher_sum += counter_[i];
+    }
+  }
+
+  int radix_;
+  std::vector<int> counter_, gray_;
+};
+
+}  // namespace
+
+std::optional<std::string> WorkspaceOptions::Check() const {
+  if (pressure_levels_mpa.empty()) return "no pressure levels given";
+  for (double level : pressure_levels_mpa) {
+    if (!std::isfinite(level) || level < 0.0) {
+      return "pressure levels must be finite and >= 0";
+    }
+  }
+  if (num_threads < 0) return "num_threads must be >= 0";
+  return equilibrium.Check();
+}
+
+std::vector<HeadExtents> WorkspaceMap::Extents() const {
+  const int num_heads = static_cast<int>(displacements_mm.cols()) / 2;
+  std::vector<HeadExtents> extents(num_heads);
+  bool first = true;
+  for (int i = 0; i < displacements_mm.rows(); ++i) {
+    if (!summaries[i].converged()) continue;
+    for (int h = 0; h < num_heads; ++h) {
+      const Eigen::Vector2d p = displacements_mm.row(i).segment<2>(2 * h);
+      extents[h].min_mm = first ? p : extents[h].min_mm.cwiseMin(p);
+      extents[h].max_mm = first ? p : extents[h].max_mm.cwiseMax(p);
+    }
+    first = false;
+  }
+  return extents;
+}
+
+WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
+                              const WorkspaceOptions& options) {
+  assert(!options.Check());
+  const int radix = static_cast<int>(options.pressure_levels_mpa.size());
+  const int num_actuators = problem.NumActuators();
+  const int n = problem.NumUnknowns();
+  long long count = 1;
+  for (int i = 0; i < num_actuators; ++i) count *= radix;
+
+  WorkspaceMap map;
+  map.pressures_mpa.resize(count, num_actuators);
+  map.displacements_mm.resize(count, n);
+  map.summaries.resize(count);
+
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+  const int num_threads = static_cast<int>(std::min<long long>(
+      count,
+      options.num_threads > 0 ? options.num_threads : std::max(1, hardware)));
+  const auto solve_run = [&](long long begin, long long end) {
+    EquilibriumSolver solver(problem, options.equilibrium);
+    GrayCounter gray(begin, radix, num_actuators);
+    Eigen::VectorXd pressures(num_actuators);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(n), warm_start(n);
+    for (long long g = begin; g < end; ++g, gray.Increment()) {
+      for (int a = 0; a < num_actuators; ++a) {
+        pressures[a] = options.pressure_levels_mpa[gray.digits()[a]];
+      }
+      warm_start = x;
+      solver.PredictSolution(pressures, &x);
+      EquilibriumSummary summary = solver.Solve(pressures, &x);
+      if (!summary.converged()) {
+        x.setZero();
+        summary = solver.Solve(pressures, &x);
+        if (!summary.converged()) x = warm_start;
+      }
+      const long long row = gray.LexicographicIndex();
+      map.pressures_mpa.row(row) = pressures.transpose();
+      if (summary.converged()) {
+        map.displacements_mm.row(row) = x.transpose();
+      } else {
+        map.displacements_mm.row(row).setConstant(std::nan(""));
+      }
+      map.summaries[row] = summary;
+    }
+  };
+
+  std::vector<std::thread> workers;
+  for (int t = 1; t < num_threads; ++t) {
+    workers.emplace_back(solve_run, count * t / num_threads,
+                         count * (t + 1) / num_threads);
+  }
+  solve_run(0, count / num_threads);
+  for (std::thread& worker : workers) worker.join();
+  map.num_not_converged = static_cast<int>(std::count_if(
+      map.summaries.begin(), map.summaries.end(),
+      [](const EquilibriumSummary& s) { return !s.converged(); }));
+  return map;
+}
+
+}  // namespace softbench

@@ -1,0 +1,54 @@
+#ifndef SOFTBENCH_MODEL_WORKSPACE_H_
+#define SOFTBENCH_MODEL_WORKSPACE_H_
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/equilibrium.h"
+
+namespace softbench {
+
+struct WorkspaceOptions {
+  // Pressure levels [MPa] applied to every actuator; the map holds every
+  // combination (levels^actuators configurations), as in thesis fig. 4.6.
+  std::vector<double> pressure_levels_mpa;
+  // Worker threads; 0 uses every hardware thread.
+  int num_threads = 0;
+  EquilibriumOptions equilibrium;
+
+  std::optional<std::string> Check() const;
+};
+
+// Extents of one head's displacement over the converged configurations.
+struct HeadExtents {
+  Eigen::Vector2d min_mm = Eigen::Vector2d::Zero();  // (y, z)
+  Eigen::Vector2d max_mm = Eigen::Vector2d::Zero();
+};
+
+struct WorkspaceMap {
+  // Row i: the pressures [MPa] of configuration i, in lexicographic order of
+  // level indices (p1 slowest, pN fastest).
+  Eigen::MatrixXd pressures_mpa;
+  // Row i: the heads' displacements (y1, z1, y2, z2, ...) [mm].
+  Eigen::MatrixXd displacements_mm;
+  std::vector<EquilibriumSummary> summaries;
+  int num_not_converged = 0;
+
+  // Extents per head over converged configurations only.
+  std::vector<HeadExtents> Extents() const;
+};
+
+// Solves every combination of pressure levels. Configurations are visited in
+// reflected Gray-code order, so each solve starts from the solution of a
+// neighbour that differs by one level of one actuator, moved along its
+// tangent (EquilibriumSolver::PredictSolution); threads take contiguous runs
+// of that order. A warm start that fails is retried from the
+// rest state before it is reported as not converged.
+WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
+                              const WorkspaceOptions& options);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_MODEL_WORKSPACE_H_

@@ -1,0 +1,67 @@
+// softbench: bench videos of soft pneumatic mechanisms to model-validation
+// reports. This file only wires the subcommands to their Run functions.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "pipelines/inverse_command.h"
+#include "pipelines/predict_command.h"
+#include "pipelines/workspace_command.h"
+#include "util/input_error.h"
+
+namespace {
+
+// Exit codes: 0 success, 1 internal failure, 2 bad input, 3 unreachable
+// target (inverse), CLI11's own codes (>= 100) for malformed command lines.
+constexpr int kExitInternal = 1;
+constexpr int kExitInputError = 2;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "softbench: soft pneumatic actuator mechanisms, from model to bench "
+      "video"};
+  app.require_subcommand(1);
+  bool quiet = false;
+  app.add_flag("--quiet,-q", quiet,
+               "print errors only (no progress, no warnings)");
+
+  softbench::PredictOptions predict;
+  softbench::WorkspaceCommandOptions workspace;
+  softbench::InverseCommandOptions inverse;
+  softbench::AddPredictCommand(&app, &predict);
+  softbench::AddWorkspaceCommand(&app, &workspace);
+  softbench::AddInverseCommand(&app, &inverse);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  auto logger = spdlog::stderr_color_mt("softbench");
+  logger->set_pattern("softbench: %l: %v");
+  logger->set_level(quiet ? spdlog::level::err : spdlog::level::info);
+  spdlog::set_default_logger(logger);
+
+  try {
+    if (app.got_subcommand("predict")) {
+      return softbench::RunPredict(predict, std::cout);
+    }
+    if (app.got_subcommand("workspace")) {
+      return softbench::RunWorkspace(workspace, std::cout);
+    }
+    if (app.got_subcommand("inverse")) {
+      return softbench::RunInverse(inverse, std::cout);
+    }
+  } catch (const softbench::InputError& e) {
+    spdlog::error("{}", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    spdlog::critical("internal error: {}", e.what());
+    return kExitInternal;
+  }
+  return kExitInternal;
+}

@@ -1,0 +1,103 @@
+#include "pipelines/workspace_command.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "model/workspace.h"
+#include "pipelines/prediction_table.h"
+#include "util/atomic_file.h"
+#include "util/input_error.h"
+
+namespace softbench {
+
+void AddWorkspaceCommand(CLI::App* app, WorkspaceCommandOptions* options) {
+  CLI::App* command = app->add_subcommand(
+      "workspace", "Workspace map: every combination of pressure levels");
+  AddModelSelectionOptions(command, &options->model);
+  command
+      ->add_option("--max", options->max_pressure,
+                   "highest pressure level, in --pressure-unit")
+      ->capture_default_str();
+  command
+      ->add_option("--step", options->step,
+                   "spacing of pressure levels, in --pressure-unit")
+      ->capture_default_str();
+  command
+      ->add_option("--threads", options->threads,
+                   "worker threads (0: all cores)")
+      ->capture_default_str();
+  command->add_option("--output", options->output_path,
+                      "map CSV to write ('-' for standard output)");
+}
+
+int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
+  const ResolvedModel resolved = ResolveModel(options.model);
+  if (!(options.step > 0.0) || !std::isfinite(options.step)) {
+    throw InputError("--step: must be a number > 0");
+  }
+  if (!(options.max_pressure >= 0.0) || !std::isfinite(options.max_pressure)) {
+    throw InputError("--max: must be a number >= 0");
+  }
+  const double intervals = options.max_pressure / options.step;
+  const long long num_intervals = std::llround(intervals);
+  if (std::abs(intervals - num_intervals) > 1e-9 * std::max(1.0, intervals)) {
+    throw InputError(fmt::format(
+        "--max {} is not a whole number of --step {}; choose a step that "
+        "divides the range",
+        options.max_pressure, options.step));
+  }
+  if (options.threads < 0) throw InputError("--threads: must be >= 0");
+  const int num_actuators = resolved.mechanism.NumActuators();
+  const double count = std::pow(num_intervals + 1.0, num_actuators);
+  if (count > 5e7) {
+    throw InputError(fmt::format(
+        "--step: {} levels for {} actuators make {:.3g} configurations; use "
+        "a coarser step",
+        num_intervals + 1, num_actuators, count));
+  }
+
+  WorkspaceOptions workspace_options;
+  workspace_options.num_threads = options.threads;
+  for (long long i = 0; i <= num_intervals; ++i) {
+    workspace_options.pressure_levels_mpa.push_back(
+        options.max_pressure * static_cast<double>(i) / num_intervals *
+        resolved.mpa_per_unit);
+  }
+  if (num_intervals == 0) workspace_options.pressure_levels_mpa = {0.0};
+  const EquilibriumProblem problem(resolved.mechanism, resolved.force_model);
+  const WorkspaceMap map = ComputeWorkspace(problem, workspace_options);
+
+  if (!options.output_path.empty()) {
+    PredictionTable table(resolved.mechanism);
+    for (int i = 0; i < map.pressures_mpa.rows(); ++i) {
+      table.AddRow(map.pressures_mpa.row(i).transpose() / resolved.mpa_per_unit,
+                   map.displacements_mm.row(i).transpose(), map.summaries[i]);
+    }
+    WriteFileAtomically(options.output_path, table.text());
+  }
+  std::ostream& report = options.output_path == "-" ? std::cerr : out;
+  report << fmt::format(
+      "{} {}: {} configurations (0 to {} {} in steps of {}), {} converged\n",
+      resolved.mechanism.name, resolved.model_name, map.pressures_mpa.rows(),
+      options.max_pressure, resolved.pressure_unit, options.step,
+      map.pressures_mpa.rows() - map.num_not_converged);
+  const std::vector<HeadExtents> extents = map.Extents();
+  for (int h = 0; h < resolved.mechanism.NumHeads(); ++h) {
+    report << fmt::format(
+        "  {}: y {:.4f} .. {:.4f} mm, z {:.4f} .. {:.4f} mm\n",
+        resolved.mechanism.heads[h].name, extents[h].min_mm.x(),
+        extents[h].max_mm.x(), extents[h].min_mm.y(), extents[h].max_mm.y());
+  }
+  if (map.num_not_converged > 0) {
+    spdlog::warn(
+        "{} configurations did not converge; they are excluded from "
+        "the extents and written with converged = 0",
+        map.num_not_converged);
+  }
+  return 0;
+}
+
+}  // namespace softbench

@@ -1,0 +1,88 @@
+#include "util/yaml_reader.h"
+
+#include <cmath>
+
+#include "util/csv.h"
+#include "util/input_error.h"
+
+namespace softbench {
+
+YAML::Node YamlReader::Parse(std::string_view text) const {
+  try {
+    return YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    throw InputError(source_ + ":" + std::to_string(e.mark.line + 1) +
+                     ": not valid YAML (" + e.msg + ")");
+  }
+}
+
+std::string YamlReader::Where(const YAML::Node& node) const {
+  const YAML::Mark mark = node.Mark();
+  if (mark.line < 0) return source_ + ": ";
+  return source_ + ":" + std::to_string(mark.line + 1) + ": ";
+}
+
+void YamlReader::Fail(const YAML::Node& node, std::string_view field,
+                      std::string_view message) const {
+  throw InputError(Where(node) + std::string(field) + ": " +
+                   std::string(message));
+}
+
+void YamlReader::CheckKeys(
+    const YAML::Node& map,
+    std::initializer_list<std::string_view> allowed) const {
+  for (const auto& entry : map) {
+    const std::string key = entry.first.as<std::string>();
+    bool known = false;
+    std::string list;
+    for (std::string_view name : allowed) {
+      known = known || key == name;
+      list += (list.empty() ? "" : ", ") + std::string(name);
+    }
+    if (!known) {
+      Fail(entry.first, key, "unknown key; expected one of " + list);
+    }
+  }
+}
+
+YAML::Node YamlReader::Require(const YAML::Node& map,
+                               std::string_view key) const {
+  YAML::Node value = map[std::string(key)];
+  if (!value) Fail(map, key, "missing; add it");
+  return value;
+}
+
+YAML::Node YamlReader::RequireMap(const YAML::Node& map,
+                                  std::string_view key) const {
+  YAML::Node value = Require(map, key);
+  if (!value.IsMap()) Fail(value, key, "must be a map of key: value");
+  return value;
+}
+
+double YamlReader::Number(const YAML::Node& node,
+                          std::string_view field) const {
+  if (!node.IsScalar()) Fail(node, field, "must be a number");
+  const std::optional<double> value = ParseDouble(node.Scalar());
+  if (!value || !std::isfinite(*value)) {
+    Fail(node, field, "'" + node.Scalar() + "' is not a finite number");
+  }
+  return *value;
+}
+
+std::string YamlReader::String(const YAML::Node& node,
+                               std::string_view field) const {
+  if (!node.IsScalar() || node.Scalar().empty()) {
+    Fail(node, field, "must be a non-empty name");
+  }
+  return node.Scalar();
+}
+
+std::array<double, 2> YamlReader::Pair(const YAML::Node& node,
+                                       std::string_view field) const {
+  if (!node.IsSequence() || node.size() != 2) {
+    Fail(node, field, "must be a pair [y, z] in millimetres");
+  }
+  return {Number(node[0], field), Number(node[1], field)};
+}
+
+}  // namespace softbench
