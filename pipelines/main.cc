@@ -8,6 +8,7 @@
 
 #include "pipelines/inverse_command.h"
 #include "pipelines/predict_command.h"
+#include "pipelines/render_command.h"
 #include "pipelines/workspace_command.h"
 #include "util/input_error.h"
 
@@ -32,9 +33,11 @@ int main(int argc, char** argv) {
   softbench::PredictOptions predict;
   softbench::WorkspaceCommandOptions workspace;
   softbench::InverseCommandOptions inverse;
+  softbench::RenderCommandOptions render;
   softbench::AddPredictCommand(&app, &predict);
   softbench::AddWorkspaceCommand(&app, &workspace);
   softbench::AddInverseCommand(&app, &inverse);
+  softbench::AddRenderCommand(&app, &render);
 
   try {
     app.parse(argc, argv);
@@ -55,6 +58,10 @@ int main(int argc, char** argv) {
     }
     if (app.got_subcommand("inverse")) {
       return softbench::RunInverse(inverse, std::cout);
+    }
+    if (app.got_subcommand("render")) {
+      render.quiet = quiet;
+      return softbench::RunRender(render, std::cout);
     }
   } catch (const softbench::InputError& e) {
     spdlog::error("{}", e.what());

@@ -8,10 +8,12 @@ packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev
   libfmt-dev libspdlog-dev libfast-float-dev
+  libopencv-dev libapriltag-dev
+  libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   libgtest-dev libbenchmark-dev
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(python3 python3-numpy python3-scipy hyperfine)
+  packages+=(python3 python3-numpy python3-scipy hyperfine ffmpeg)
 fi
 
 missing=()

@@ -1,0 +1,219 @@
+#include "pipelines/render_command.h"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <future>
+
+#include "pipelines/model_selection.h"
+#include "pipelines/render_timeline.h"
+#include "util/atomic_file.h"
+#include "util/input_error.h"
+#include "util/progress.h"
+#include "vision/video_writer.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Sub-exposure samples for motion blur: none needed when the heads move less
+// than 1e-6 mm during the exposure.
+std::vector<Eigen::VectorXd> ExposureSamples(const HeadTimeline& timeline,
+                                             double time_s, double exposure_s,
+                                             bool motion_blur) {
+  constexpr int kSamples = 4;
+  if (!motion_blur || exposure_s <= 0.0)
+    return {timeline.DisplacementAt(time_s)};
+  std::vector<Eigen::VectorXd> samples;
+  for (int j = 0; j < kSamples; ++j) {
+    samples.push_back(timeline.DisplacementAt(
+        time_s + exposure_s * ((j + 0.5) / kSamples - 0.5)));
+  }
+  if ((samples.front() - samples.back()).lpNorm<Eigen::Infinity>() < 1e-6) {
+    return {timeline.DisplacementAt(time_s)};
+  }
+  return samples;
+}
+
+}  // namespace
+
+cv::Size ParseResolution(const std::string& text) {
+  if (text == "720p") return {1280, 720};
+  if (text == "1080p") return {1920, 1080};
+  if (text == "4k") return {3840, 2160};
+  int w = 0, h = 0;
+  char x = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d", &w, &x, &h) == 3 && x == 'x' &&
+      w >= 16 && h >= 16 && w <= 8192 && h <= 8192 && w % 2 == 0 &&
+      h % 2 == 0) {
+    return {w, h};
+  }
+  throw InputError("--resolution: '" + text +
+                   "' is not 720p, 1080p, 4k or WxH with even sides");
+}
+
+void AddRenderCommand(CLI::App* app, RenderCommandOptions* options) {
+  CLI::App* c = app->add_subcommand(
+      "render", "Render bench footage of a test plan, with exact ground truth");
+  c->add_option("--plan", options->plan_path, "test plan YAML")->required();
+  c->add_option("--output", options->output_path, "video to write (.mp4)")
+      ->required();
+  c->add_option("--truth", options->truth_path, "per-frame truth CSV to write")
+      ->required();
+  c->add_option("--plan-out", options->plan_out_path,
+                "the plan with the times used (default: VIDEO.plan.yaml)");
+  c->add_option("--resolution", options->resolution, "720p, 1080p, 4k or WxH")
+      ->capture_default_str();
+  c->add_option("--codec", options->codec, "h264 or hevc")
+      ->capture_default_str();
+  c->add_option("--crf", options->crf,
+                "encoder quality (lower: better, larger)")
+      ->capture_default_str();
+  c->add_option("--preset", options->preset, "encoder preset")
+      ->capture_default_str();
+  c->add_option("--keyframe-interval-s", options->keyframe_interval_s,
+                "seconds between key frames")
+      ->capture_default_str();
+  c->add_option("--fps", options->fps, "frames per second")
+      ->capture_default_str();
+  c->add_option("--seed", options->render.seed, "noise and texture seed")
+      ->capture_default_str();
+  c->add_option("--distance-mm", options->render.distance_mm,
+                "camera to head tops, along the optical axis")
+      ->capture_default_str();
+  c->add_option("--focal-35mm", options->focal_35mm,
+                "35 mm-equivalent focal length")
+      ->capture_default_str();
+  c->add_option("--tilt-deg", options->tilt_deg,
+                "camera tilt about the image x and y axes, e.g. 5,0");
+  c->add_option("--distortion", options->distortion,
+                "OpenCV distortion k1,k2,p1,p2,k3 (e.g. -0.1,0,0,0,0)");
+  c->add_option("--noise-sigma", options->render.noise_sigma_dn,
+                "Gaussian read noise, 8-bit levels")
+      ->capture_default_str();
+  c->add_option("--shot-noise", options->render.shot_noise_dn,
+                "signal-dependent noise variance per level")
+      ->capture_default_str();
+  c->add_option("--supersampling", options->render.supersampling,
+                "subsamples per pixel side on edges")
+      ->capture_default_str();
+  c->add_flag("--no-motion-blur", options->no_motion_blur,
+              "sharp frames while moving");
+  c->add_flag("--tube", options->render.red_tube,
+              "add a red air tube distractor");
+  c->add_flag("--glint", options->render.glint,
+              "add a specular glint on each head");
+}
+
+int RunRender(RenderCommandOptions options, std::ostream& out) {
+  TestPlan plan = LoadTestPlan(options.plan_path);
+  const cv::Size size = ParseResolution(options.resolution);
+  if (!(options.focal_35mm > 0.0))
+    throw InputError("--focal-35mm: must be > 0");
+  RenderOptions& render = options.render;
+  render.intrinsics = CameraIntrinsics::FromEquivalentFocalLength(
+      options.focal_35mm, size.width, size.height);
+  if (!options.tilt_deg.empty()) {
+    const std::vector<double> tilt =
+        ParseNumberList(options.tilt_deg, "--tilt-deg");
+    if (tilt.size() != 2) throw InputError("--tilt-deg: give two angles, x,y");
+    render.tilt_x_deg = tilt[0];
+    render.tilt_y_deg = tilt[1];
+  }
+  if (!options.distortion.empty()) {
+    const std::vector<double> d =
+        ParseNumberList(options.distortion, "--distortion");
+    if (d.size() != 5) throw InputError("--distortion: give k1,k2,p1,p2,k3");
+    std::copy(d.begin(), d.end(), render.intrinsics.distortion.begin());
+  }
+  render.motion_blur = !options.no_motion_blur;
+  if (auto problem = render.Check()) throw InputError("render: " + *problem);
+  VideoWriterOptions writer_options;
+  writer_options.codec = options.codec;
+  writer_options.crf = options.crf;
+  writer_options.preset = options.preset;
+  writer_options.fps = options.fps;
+  writer_options.keyframe_interval_s = options.keyframe_interval_s;
+  if (auto problem = writer_options.Check())
+    throw InputError("render: " + *problem);
+  render.exposure_s = std::min(render.exposure_s, 1.0 / options.fps);
+
+  AssignTimes(&plan);
+  const HeadTimeline timeline(plan);
+  const SceneRenderer renderer(plan, render);
+  const int64_t frames =
+      static_cast<int64_t>(std::ceil(timeline.duration_s() * options.fps));
+
+  // The video goes to a temporary file renamed at the end: a failure leaves
+  // no half-written video.
+  const fs::path video(options.output_path);
+  const fs::path temporary =
+      video.parent_path() / ("." + video.filename().string() + ".partial.mp4");
+  std::string truth = "frame,time_s";
+  for (int h = 1; h <= plan.mechanism.NumHeads(); ++h) {
+    truth += fmt::format(",y{0}_mm,z{0}_mm,u{0}_px,v{0}_px", h);
+  }
+  truth += "\n";
+  try {
+    VideoWriter writer(temporary.string(), size.width, size.height,
+                       writer_options);
+    ProgressBar progress("render", frames, !options.quiet);
+    std::future<void> encoding;
+    for (int64_t k = 0; k < frames; ++k) {
+      const double t = k / options.fps;
+      const std::vector<Eigen::VectorXd> samples =
+          ExposureSamples(timeline, t, render.exposure_s, render.motion_blur);
+      Eigen::VectorXd mean = Eigen::VectorXd::Zero(samples[0].size());
+      for (const Eigen::VectorXd& s : samples) mean += s / samples.size();
+      // The frame shows the heads where they were during the exposure.
+      std::vector<Eigen::Vector2d> pixels(plan.mechanism.NumHeads(),
+                                          Eigen::Vector2d::Zero());
+      for (const Eigen::VectorXd& s : samples) {
+        const std::vector<Eigen::Vector2d> p = renderer.HeadPixels(s);
+        for (size_t h = 0; h < p.size(); ++h)
+          pixels[h] += p[h] / samples.size();
+      }
+      truth += fmt::format("{},{:.6f}", k, t);
+      for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
+        truth += fmt::format(",{:.7f},{:.7f},{:.5f},{:.5f}", mean[2 * h],
+                             mean[2 * h + 1], pixels[h].x(), pixels[h].y());
+      }
+      truth += "\n";
+      cv::Mat frame = renderer.Render(samples, k);
+      if (encoding.valid())
+        encoding.get();  // one frame encodes while the next renders
+      encoding =
+          std::async(std::launch::async,
+                     [&writer, f = std::move(frame)] { writer.Write(f); });
+      progress.Update(k + 1);
+    }
+    if (encoding.valid()) encoding.get();
+    writer.Close();
+    progress.Finish();
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw;
+  }
+  WriteFileAtomically(options.truth_path, truth);
+  const std::string plan_out =
+      options.plan_out_path.empty()
+          ? (video.parent_path() / (video.stem().string() + ".plan.yaml"))
+                .string()
+          : options.plan_out_path;
+  const fs::path plan_dir = fs::path(plan_out).parent_path();
+  WriteFileAtomically(
+      plan_out,
+      TestPlanToYaml(plan, plan_dir.empty() ? "." : plan_dir.string()));
+  fs::rename(temporary, video);
+  out << fmt::format(
+      "rendered {} frames ({:.1f} s at {} fps, {}x{}, {}) to {}; truth in {}; "
+      "plan in {}\n",
+      frames, frames / options.fps, options.fps, size.width, size.height,
+      options.codec, options.output_path, options.truth_path, plan_out);
+  return 0;
+}
+
+}  // namespace softbench

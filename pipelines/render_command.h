@@ -1,0 +1,41 @@
+#ifndef SOFTBENCH_PIPELINES_RENDER_COMMAND_H_
+#define SOFTBENCH_PIPELINES_RENDER_COMMAND_H_
+
+#include <CLI/CLI.hpp>
+#include <ostream>
+#include <string>
+
+#include "pipelines/scene_renderer.h"
+
+namespace softbench {
+
+// `softbench render`: bench footage of a test plan with exact ground truth.
+struct RenderCommandOptions {
+  std::string plan_path;
+  std::string output_path;  // video (.mp4)
+  std::string truth_path;   // per-frame truth CSV
+  std::string
+      plan_out_path;  // the plan with the times used; default beside the video
+  std::string resolution = "1080p";  // 720p, 1080p, 4k or WxH
+  std::string codec = "h264";
+  int crf = 20;
+  double keyframe_interval_s = 2.0;
+  std::string preset = "medium";
+  double fps = 30.0;
+  double focal_35mm = 52.0;
+  std::string tilt_deg;    // "x,y"
+  std::string distortion;  // "k1,k2,p1,p2,k3"
+  bool no_motion_blur = false;
+  bool quiet = false;
+  RenderOptions render;  // distance, noise, distractors, seed
+};
+
+void AddRenderCommand(CLI::App* app, RenderCommandOptions* options);
+int RunRender(RenderCommandOptions options, std::ostream& out);
+
+// Resolution names: "720p", "1080p", "4k" or "WxH"; throws InputError.
+cv::Size ParseResolution(const std::string& text);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_RENDER_COMMAND_H_

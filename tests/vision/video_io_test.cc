@@ -1,0 +1,158 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "util/input_error.h"
+#include "vision/video_reader.h"
+#include "vision/video_writer.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A frame whose content identifies its index: a bright square moving right
+// over a gradient, plus the index written as a bar.
+cv::Mat TestFrame(int index, cv::Size size) {
+  cv::Mat frame(size, CV_8UC3);
+  for (int v = 0; v < size.height; ++v) {
+    for (int u = 0; u < size.width; ++u) {
+      frame.at<cv::Vec3b>(v, u) = cv::Vec3b(u % 256, v % 256, 128);
+    }
+  }
+  cv::rectangle(frame, cv::Rect(8 + 4 * index, 40, 30, 30),
+                cv::Scalar(255, 255, 255), -1);
+  cv::rectangle(frame, cv::Rect(0, 0, 2 * index + 2, 8), cv::Scalar(0, 0, 0),
+                -1);
+  return frame;
+}
+
+std::string WriteVideo(const std::string& name, int frames,
+                       const VideoWriterOptions& options = {}) {
+  const std::string path = (fs::temp_directory_path() / name).string();
+  VideoWriter writer(path, 320, 240, options);
+  for (int k = 0; k < frames; ++k) writer.Write(TestFrame(k, {320, 240}));
+  writer.Close();
+  return path;
+}
+
+// True when `frame` decodes frame `index` of TestFrame: closer to it than to
+// its neighbours, and close in absolute terms (4:2:0 chroma limits the PSNR
+// of the colourful test pattern to about 30 dB).
+bool IsFrame(const cv::Mat& frame, int index, cv::Size size, int rotate = -1) {
+  const auto reference = [&](int k) {
+    cv::Mat m = TestFrame(k, size);
+    if (rotate >= 0) cv::rotate(m, m, rotate);
+    return m;
+  };
+  const double own = cv::PSNR(frame, reference(index));
+  return own > 28.0 && own > cv::PSNR(frame, reference(index + 1)) + 3.0 &&
+         (index == 0 || own > cv::PSNR(frame, reference(index - 1)) + 3.0);
+}
+
+TEST(VideoIo, WrittenVideoReadsBackWithItsFactsAndTimes) {
+  VideoWriterOptions options;
+  options.fps = 30;
+  options.keyframe_interval_s = 0.5;
+  const std::string path = WriteVideo("softbench_io_h264.mp4", 45, options);
+  VideoReader reader(path);
+  EXPECT_EQ(reader.info().codec, "h264");
+  EXPECT_EQ(reader.info().width_px, 320);
+  EXPECT_EQ(reader.info().height_px, 240);
+  EXPECT_DOUBLE_EQ(reader.info().fps, 30.0);
+  EXPECT_EQ(reader.info().frame_count, 45);
+  EXPECT_NEAR(reader.info().duration_s, 1.5, 1e-9);
+  VideoFrame frame;
+  int k = 0;
+  while (reader.Read(&frame)) {
+    EXPECT_EQ(frame.index, k);
+    EXPECT_NEAR(frame.time_s, k / 30.0, 1e-9);
+    EXPECT_TRUE(IsFrame(frame.bgr, k, {320, 240})) << k;
+    ASSERT_EQ(frame.luma.type(), CV_8UC1);
+    ++k;
+  }
+  EXPECT_EQ(k, 45);
+  EXPECT_FALSE(reader.Read(&frame));  // stays at the end, no loop
+}
+
+TEST(VideoIo, HevcRoundTrips) {
+  VideoWriterOptions options;
+  options.codec = "hevc";
+  const std::string path = WriteVideo("softbench_io_hevc.mp4", 20, options);
+  VideoReader reader(path);
+  EXPECT_EQ(reader.info().codec, "hevc");
+  VideoFrame frame;
+  int k = 0;
+  while (reader.Read(&frame)) {
+    EXPECT_TRUE(IsFrame(frame.bgr, k, {320, 240})) << k;
+    ++k;
+  }
+  EXPECT_EQ(k, 20);
+}
+
+TEST(VideoIo, SeekLandsOnTheRequestedFrame) {
+  VideoWriterOptions options;
+  options.keyframe_interval_s = 0.3;
+  const std::string path = WriteVideo("softbench_io_seek.mp4", 60, options);
+  VideoReader reader(path);
+  for (double t : {1.0, 0.2, 1.9, 0.0, 1.0 + 0.4 / 30}) {
+    const VideoFrame frame = reader.SeekTo(t);
+    const int expected = static_cast<int>(std::lround(t * 30));
+    EXPECT_EQ(frame.index, expected) << t;
+    EXPECT_TRUE(IsFrame(frame.bgr, expected, {320, 240})) << t;
+    VideoFrame next;
+    ASSERT_TRUE(reader.Read(&next) || expected == 59);
+    if (expected < 59) EXPECT_EQ(next.index, expected + 1);
+  }
+  EXPECT_THROW(reader.SeekTo(2.5), InputError);
+  EXPECT_THROW(reader.SeekTo(-1.0), InputError);
+}
+
+TEST(VideoIo, RotationMetadataIsApplied) {
+  VideoWriterOptions options;
+  options.rotation_deg = 90;
+  const std::string path = WriteVideo("softbench_io_rotated.mp4", 5, options);
+  VideoReader reader(path);
+  EXPECT_EQ(reader.info().rotation_deg, 90);
+  EXPECT_EQ(reader.info().width_px, 240);
+  EXPECT_EQ(reader.info().height_px, 320);
+  VideoFrame frame;
+  ASSERT_TRUE(reader.Read(&frame));
+  EXPECT_TRUE(IsFrame(frame.bgr, 0, {320, 240}, cv::ROTATE_90_CLOCKWISE));
+  EXPECT_EQ(frame.luma.cols, 240);
+}
+
+TEST(VideoIo, TruncatedFileIsAClearErrorNamingTheLastGoodFrame) {
+  const std::string path = WriteVideo("softbench_io_full.mp4", 90);
+  const std::string cut =
+      (fs::temp_directory_path() / "softbench_io_cut.mp4").string();
+  fs::copy_file(path, cut, fs::copy_options::overwrite_existing);
+  fs::resize_file(cut, fs::file_size(path) * 6 / 10);
+  VideoReader reader(cut);  // the moov atom is first: the file still opens
+  VideoFrame frame;
+  try {
+    while (reader.Read(&frame)) {
+    }
+    FAIL() << "a truncated file read to the end without an error";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(cut), std::string::npos) << message;
+    EXPECT_NE(message.find("truncated"), std::string::npos) << message;
+    EXPECT_NE(message.find("90 frames"), std::string::npos) << message;
+    EXPECT_NE(message.find("after frame"), std::string::npos) << message;
+  }
+}
+
+TEST(VideoIo, UnreadableFilesAreClearErrors) {
+  const std::string junk =
+      (fs::temp_directory_path() / "softbench_io_junk.mp4").string();
+  std::ofstream(junk) << "this is not a video";
+  EXPECT_THROW(VideoReader reader(junk), InputError);
+  EXPECT_THROW(VideoReader reader("/nonexistent/softbench.mp4"), InputError);
+}
+
+}  // namespace
+}  // namespace softbench

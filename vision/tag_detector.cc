@@ -1,0 +1,132 @@
+#include "vision/tag_detector.h"
+
+#include <apriltag/apriltag.h>
+#include <apriltag/tag36h11.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace softbench {
+
+std::optional<std::string> TagDetectorOptions::Check() const {
+  if (!(edge_half_width_px >= 2.0)) return "edge_half_width_px must be >= 2";
+  return std::nullopt;
+}
+
+namespace {
+
+// Bilinear sample of an 8-bit image at (u, v), OpenCV convention.
+double Sample(const cv::Mat& gray, double u, double v) {
+  const int x = static_cast<int>(std::floor(u)),
+            y = static_cast<int>(std::floor(v));
+  if (x < 0 || y < 0 || x + 1 >= gray.cols || y + 1 >= gray.rows) return -1.0;
+  const double a = u - x, b = v - y;
+  const uint8_t* r0 = gray.ptr<uint8_t>(y) + x;
+  const uint8_t* r1 = gray.ptr<uint8_t>(y + 1) + x;
+  return (1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
+         b * ((1 - a) * r1[0] + a * r1[1]);
+}
+
+// The straight outer edge from corner a to corner b (black inside, white
+// outside), located along it at sub-pixel accuracy. At each point the edge's
+// offset along the normal comes from the integral of the profile across it:
+//   offset = d - integral_{-d}^{d} (p(s) - black) ds / (white - black),
+// which a symmetric blur (the pixel's area sampling, interpolation) does not
+// change, unlike a threshold crossing. Returns false when too few points had
+// clean levels.
+bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
+             const Eigen::Vector2d& b, const TagDetectorOptions& options,
+             cv::Vec4f* line) {
+  const Eigen::Vector2d along = (b - a).normalized();
+  // Outward normal: libapriltag's corners run counter-clockwise as seen on
+  // screen, so with y down outward is (-along_y, along_x).
+  const Eigen::Vector2d normal(-along.y(), along.x());
+  const double d = options.edge_half_width_px, step = 0.25;
+  const double length = (b - a).norm();
+  std::vector<cv::Point2f> points;
+  for (double t = 0.2 * length; t <= 0.8 * length; t += 0.5) {
+    const Eigen::Vector2d p = a + t * along;
+    std::vector<double> profile;
+    for (double s = -d; s <= d + 1e-9; s += step) {
+      const Eigen::Vector2d q = p + s * normal;
+      profile.push_back(Sample(gray, q.x(), q.y()));
+    }
+    if (*std::min_element(profile.begin(), profile.end()) < 0) continue;
+    const int end = static_cast<int>(profile.size()) - 1;
+    const int flat = static_cast<int>(1.0 / step);  // 1 px at each end
+    double black = 0, white = 0;
+    for (int i = 0; i <= flat; ++i) {
+      black += profile[i] / (flat + 1);
+      white += profile[end - i] / (flat + 1);
+    }
+    if (white - black < 40.0) continue;
+    double integral = 0;  // trapezoid rule
+    for (int i = 0; i < end; ++i) {
+      integral += 0.5 * (profile[i] + profile[i + 1] - 2 * black) * step;
+    }
+    const double offset = d - integral / (white - black);
+    const Eigen::Vector2d edge = p + offset * normal;
+    points.emplace_back(static_cast<float>(edge.x()),
+                        static_cast<float>(edge.y()));
+  }
+  if (points.size() < 8) return false;
+  cv::fitLine(points, *line, cv::DIST_L2, 0, 1e-6, 1e-6);
+  return true;
+}
+
+Eigen::Vector2d Intersect(const cv::Vec4f& l1, const cv::Vec4f& l2) {
+  // Points p1 + s d1 = p2 + t d2.
+  Eigen::Matrix2d m;
+  m << l1[0], -l2[0], l1[1], -l2[1];
+  const Eigen::Vector2d rhs(l2[2] - l1[2], l2[3] - l1[3]);
+  const Eigen::Vector2d st = m.inverse() * rhs;
+  return {l1[2] + st[0] * l1[0], l1[3] + st[0] * l1[1]};
+}
+
+}  // namespace
+
+std::vector<TagDetection> DetectTags(const cv::Mat& gray,
+                                     const TagDetectorOptions& options) {
+  assert(gray.type() == CV_8UC1 && !options.Check());
+  apriltag_family_t* family = tag36h11_create();
+  apriltag_detector_t* detector = apriltag_detector_create();
+  apriltag_detector_add_family(detector, family);
+  detector->quad_decimate = 1.0f;
+  detector->nthreads = 1;
+  image_u8_t image{gray.cols, gray.rows, static_cast<int32_t>(gray.step),
+                   gray.data};
+  zarray_t* detections = apriltag_detector_detect(detector, &image);
+
+  std::vector<TagDetection> tags;
+  for (int i = 0; i < zarray_size(detections); ++i) {
+    apriltag_detection_t* det = nullptr;
+    zarray_get(detections, i, &det);
+    TagDetection tag;
+    tag.id = det->id;
+    tag.hamming = det->hamming;
+    for (int c = 0; c < 4; ++c) {
+      // libapriltag puts pixel centres at +0.5; OpenCV at integers.
+      tag.coarse_corners[c] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5};
+    }
+    std::array<cv::Vec4f, 4> edges;
+    bool refined = true;
+    for (int c = 0; c < 4 && refined; ++c) {
+      refined = FitEdge(gray, tag.coarse_corners[c],
+                        tag.coarse_corners[(c + 1) % 4], options, &edges[c]);
+    }
+    for (int c = 0; c < 4; ++c) {
+      tag.corners[c] = refined ? Intersect(edges[(c + 3) % 4], edges[c])
+                               : tag.coarse_corners[c];
+    }
+    tag.refined = refined;
+    tags.push_back(tag);
+  }
+  apriltag_detections_destroy(detections);
+  apriltag_detector_destroy(detector);
+  tag36h11_destroy(family);
+  return tags;
+}
+
+}  // namespace softbench

@@ -1,0 +1,47 @@
+#ifndef SOFTBENCH_VISION_TAG_DETECTOR_H_
+#define SOFTBENCH_VISION_TAG_DETECTOR_H_
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <array>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace softbench {
+
+struct TagDetectorOptions {
+  // Half length [px] of the profiles taken across each outer edge; the black
+  // border and the white quiet zone must each be wider (a 25 mm tag36h11 at
+  // the thesis's 0.18 mm/px has 17 px cells).
+  double edge_half_width_px = 5.0;
+
+  std::optional<std::string> Check() const;
+};
+
+struct TagDetection {
+  int id = 0;
+  int hamming = 0;  // corrected bit errors
+  // Outer corners of the black border, OpenCV pixel convention (pixel centres
+  // at integers), in libapriltag's order: counter-clockwise in the printed tag
+  // from its bottom-left corner.
+  std::array<Eigen::Vector2d, 4> corners;
+  // libapriltag's own corners before refinement (same convention).
+  std::array<Eigen::Vector2d, 4> coarse_corners;
+  // False when an edge was too short or too faint to refine: `corners` are
+  // then libapriltag's.
+  bool refined = false;
+};
+
+// tag36h11 detection: libapriltag finds tags and decodes ids at full
+// resolution; the four outer edges are then located to sub-pixel accuracy
+// (see FitEdge in tag_detector.cc) and intersected, because libapriltag's
+// corners are off by up to ~0.2 px even on exact noise-free renderings and
+// cornerSubPix shrinks anti-aliased corners by about as much.
+std::vector<TagDetection> DetectTags(const cv::Mat& gray,
+                                     const TagDetectorOptions& options = {});
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_TAG_DETECTOR_H_

@@ -1,0 +1,272 @@
+#include "vision/video_reader.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <opencv2/core.hpp>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/display.h>
+#include <libavutil/imgutils.h>
+#include <libswscale/swscale.h>
+}
+
+#include "util/input_error.h"
+#include "vision/ffmpeg_util.h"
+
+namespace softbench {
+
+struct VideoReader::State {
+  std::string path;
+  VideoReaderOptions options;
+  VideoInfo info;
+  AVFormatContext* format = nullptr;
+  AVCodecContext* codec = nullptr;
+  AVPacket* packet = nullptr;
+  AVFrame* frame = nullptr;
+  SwsContext* sws = nullptr;
+  int stream = -1;
+  AVRational time_base{1, 1};
+  int64_t start_pts = 0;
+  int64_t frames_returned = 0;   // since open or the last seek
+  int64_t last_good_index = -1;  // for truncation messages
+  double last_good_time = 0.0;
+  bool flushing = false;
+  bool finished = false;
+
+  ~State() {
+    sws_freeContext(sws);
+    av_frame_free(&frame);
+    av_packet_free(&packet);
+    avcodec_free_context(&codec);
+    avformat_close_input(&format);
+  }
+
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw InputError(path + ": " + what);
+  }
+
+  // Every way the data can run out or break says the same: where, of how
+  // many, and what to do.
+  [[noreturn]] void FailBroken(const std::string& detail) const {
+    const std::string where =
+        last_good_index < 0 ? "before the first frame"
+                            : fmt::format("after frame {} (t = {:.3f} s)",
+                                          last_good_index, last_good_time);
+    Fail(
+        fmt::format("the video data is truncated or corrupt {} of the {} "
+                    "frames the container lists ({}); re-copy or re-export "
+                    "the file",
+                    where, info.frame_count, detail));
+  }
+
+  // Decodes one frame into `frame`; false at a clean end of stream.
+  bool DecodeNext() {
+    for (;;) {
+      const int received = avcodec_receive_frame(codec, frame);
+      if (received == 0) return true;
+      if (received == AVERROR_EOF) return false;
+      if (received != AVERROR(EAGAIN)) FailBroken(FfmpegError(received));
+      if (flushing) return false;
+      const int read = av_read_frame(format, packet);
+      if (read == AVERROR_EOF) {
+        flushing = true;
+        avcodec_send_packet(codec, nullptr);
+        continue;
+      }
+      if (read < 0) FailBroken(FfmpegError(read));
+      if (packet->stream_index == stream) {
+        const int sent = avcodec_send_packet(codec, packet);
+        if (sent < 0 && sent != AVERROR(EAGAIN)) {
+          av_packet_unref(packet);
+          FailBroken(FfmpegError(sent));
+        }
+      }
+      av_packet_unref(packet);
+    }
+  }
+
+  double FrameTime() const {
+    const int64_t pts = frame->best_effort_timestamp != AV_NOPTS_VALUE
+                            ? frame->best_effort_timestamp
+                            : frame->pts;
+    return (pts - start_pts) * av_q2d(time_base);
+  }
+
+  // Decodes the next frame and checks that the stream did not end early.
+  bool Next() {
+    if (finished) return false;
+    if (!DecodeNext()) {
+      finished = true;
+      if (info.frame_count > 0 && last_good_index + 1 < info.frame_count) {
+        FailBroken("the data ends early");
+      }
+      return false;
+    }
+    last_good_time = FrameTime();
+    last_good_index = std::llround(last_good_time * info.fps);
+    ++frames_returned;
+    return true;
+  }
+
+  void Convert(VideoFrame* out) {
+    out->time_s = last_good_time;
+    out->index = last_good_index;
+    const int w = frame->width, h = frame->height;
+    if (options.want_luma) {
+      const cv::Mat plane(h, w, CV_8UC1, frame->data[0], frame->linesize[0]);
+      Rotate(plane, &out->luma);
+    } else {
+      out->luma.release();
+    }
+    if (options.want_bgr) {
+      sws = sws_getCachedContext(
+          sws, w, h, static_cast<AVPixelFormat>(frame->format), w, h,
+          AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr, nullptr);
+      SetColorspace(sws, frame->colorspace, frame->color_range);
+      cv::Mat bgr(h, w, CV_8UC3);
+      uint8_t* dst[] = {bgr.data};
+      const int dst_stride[] = {static_cast<int>(bgr.step)};
+      sws_scale(sws, frame->data, frame->linesize, 0, h, dst, dst_stride);
+      Rotate(bgr, &out->bgr);
+    } else {
+      out->bgr.release();
+    }
+  }
+
+  // Applies the rotation metadata (clockwise degrees) like ffmpeg's autorotate.
+  void Rotate(const cv::Mat& in, cv::Mat* out) const {
+    switch (info.rotation_deg) {
+      case 90:
+        cv::rotate(in, *out, cv::ROTATE_90_CLOCKWISE);
+        break;
+      case 180:
+        cv::rotate(in, *out, cv::ROTATE_180);
+        break;
+      case 270:
+        cv::rotate(in, *out, cv::ROTATE_90_COUNTERCLOCKWISE);
+        break;
+      default:
+        in.copyTo(*out);
+    }
+  }
+};
+
+VideoReader::VideoReader(const std::string& path,
+                         const VideoReaderOptions& options)
+    : state_(std::make_unique<State>()) {
+  State& s = *state_;
+  s.path = path;
+  s.options = options;
+  av_log_set_level(AV_LOG_QUIET);
+  int err = avformat_open_input(&s.format, path.c_str(), nullptr, nullptr);
+  if (err < 0) {
+    s.Fail("cannot open the video (" + FfmpegError(err) +
+           "); check the path, or re-copy the file if it is truncated");
+  }
+  err = avformat_find_stream_info(s.format, nullptr);
+  if (err < 0)
+    s.Fail("cannot read stream information (" + FfmpegError(err) + ")");
+  s.stream =
+      av_find_best_stream(s.format, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
+  if (s.stream < 0) s.Fail("no video stream in the file");
+  AVStream* stream = s.format->streams[s.stream];
+  const AVCodec* decoder = avcodec_find_decoder(stream->codecpar->codec_id);
+  if (decoder == nullptr) {
+    s.Fail(std::string("no decoder for codec '") +
+           avcodec_get_name(stream->codecpar->codec_id) + "'");
+  }
+  s.codec = avcodec_alloc_context3(decoder);
+  avcodec_parameters_to_context(s.codec, stream->codecpar);
+  s.codec->thread_count = options.threads;
+  s.codec->thread_type = FF_THREAD_FRAME | FF_THREAD_SLICE;
+  err = avcodec_open2(s.codec, decoder, nullptr);
+  if (err < 0) s.Fail("cannot open the decoder (" + FfmpegError(err) + ")");
+  s.packet = av_packet_alloc();
+  s.frame = av_frame_alloc();
+  s.time_base = stream->time_base;
+  s.start_pts = stream->start_time != AV_NOPTS_VALUE ? stream->start_time : 0;
+
+  VideoInfo& info = s.info;
+  info.codec = avcodec_get_name(stream->codecpar->codec_id);
+  const AVRational rate = stream->avg_frame_rate.num > 0
+                              ? stream->avg_frame_rate
+                              : stream->r_frame_rate;
+  info.fps = av_q2d(rate);
+  if (!(info.fps > 0.0)) s.Fail("the video has no frame rate");
+  info.frame_count = stream->nb_frames;
+  info.duration_s = stream->duration != AV_NOPTS_VALUE
+                        ? stream->duration * av_q2d(stream->time_base)
+                        : info.frame_count / info.fps;
+  if (info.frame_count <= 0) {
+    info.frame_count = std::llround(info.duration_s * info.fps);
+  }
+  if (const uint8_t* matrix =
+          av_stream_get_side_data(stream, AV_PKT_DATA_DISPLAYMATRIX, nullptr)) {
+    // Counter-clockwise degrees in the matrix; frames turn the other way.
+    const double ccw =
+        av_display_rotation_get(reinterpret_cast<const int32_t*>(matrix));
+    if (std::isfinite(ccw)) {
+      info.rotation_deg =
+          ((-static_cast<int>(std::lround(ccw)) % 360) + 360) % 360;
+    }
+  }
+  const bool quarter_turn = info.rotation_deg == 90 || info.rotation_deg == 270;
+  info.width_px =
+      quarter_turn ? stream->codecpar->height : stream->codecpar->width;
+  info.height_px =
+      quarter_turn ? stream->codecpar->width : stream->codecpar->height;
+}
+
+VideoReader::~VideoReader() = default;
+
+const VideoInfo& VideoReader::info() const { return state_->info; }
+const std::string& VideoReader::path() const { return state_->path; }
+
+bool VideoReader::Read(VideoFrame* frame) {
+  if (!state_->Next()) return false;
+  state_->Convert(frame);
+  return true;
+}
+
+bool VideoReader::Skip() { return state_->Next(); }
+
+VideoFrame VideoReader::SeekTo(double time_s) {
+  State& s = *state_;
+  const double half_frame = 0.5 / s.info.fps;
+  if (!(time_s >= -half_frame) || time_s > s.info.duration_s - half_frame) {
+    s.Fail(
+        fmt::format("cannot seek to t = {:.3f} s: the video runs from 0 to "
+                    "{:.3f} s",
+                    time_s, s.info.duration_s));
+  }
+  const int64_t target =
+      s.start_pts +
+      static_cast<int64_t>(std::floor(time_s / av_q2d(s.time_base)));
+  const int err =
+      av_seek_frame(s.format, s.stream, target, AVSEEK_FLAG_BACKWARD);
+  if (err < 0) {
+    s.Fail(fmt::format("seek to t = {:.3f} s failed ({})", time_s,
+                       FfmpegError(err)));
+  }
+  avcodec_flush_buffers(s.codec);
+  s.flushing = s.finished = false;
+  // Decode from the key frame up to the frame on screen at `time_s`.
+  for (;;) {
+    if (!s.Next()) {
+      s.Fail(fmt::format("seek to t = {:.3f} s ran past the end", time_s));
+    }
+    if (s.last_good_time >= time_s - half_frame) break;
+  }
+  if (std::abs(s.last_good_time - time_s) > half_frame) {
+    s.Fail(fmt::format("seek to t = {:.3f} s landed on t = {:.3f} s", time_s,
+                       s.last_good_time));
+  }
+  VideoFrame frame;
+  s.Convert(&frame);
+  return frame;
+}
+
+}  // namespace softbench

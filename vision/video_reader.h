@@ -1,0 +1,73 @@
+#ifndef SOFTBENCH_VISION_VIDEO_READER_H_
+#define SOFTBENCH_VISION_VIDEO_READER_H_
+
+#include <cstdint>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+namespace softbench {
+
+// One decoded frame. `luma` is the full-resolution Y plane (the channel that
+// locates edges; chroma is subsampled in 4:2:0 video), `bgr` the colour image;
+// each is filled only when VideoReaderOptions asks for it.
+struct VideoFrame {
+  int64_t index = 0;    // 0-based frame number, from the timestamp
+  double time_s = 0.0;  // presentation time from the start of the stream
+  cv::Mat luma;         // CV_8UC1
+  cv::Mat bgr;          // CV_8UC3
+};
+
+struct VideoReaderOptions {
+  bool want_luma = true;
+  bool want_bgr = true;
+  // Decoder threads; 0 lets FFmpeg choose (one per core, as ffmpeg does).
+  int threads = 0;
+};
+
+// Facts about an opened video, after rotation metadata is applied.
+struct VideoInfo {
+  std::string codec;  // "h264", "hevc", ...
+  int width_px = 0;   // as displayed (rotation applied)
+  int height_px = 0;
+  double fps = 0.0;
+  int64_t frame_count = 0;  // from the container's sample table
+  double duration_s = 0.0;
+  int rotation_deg = 0;  // clockwise rotation applied to decoded frames
+};
+
+// The one video reader of softbench (MP4/MOV with H.264 or HEVC, anything
+// FFmpeg demuxes). Every failure throws InputError naming the file and, for a
+// truncated or corrupt file, the last good frame; it never loops or returns a
+// silently short read.
+class VideoReader {
+ public:
+  VideoReader(const std::string& path, const VideoReaderOptions& options = {});
+  ~VideoReader();
+  VideoReader(const VideoReader&) = delete;
+  VideoReader& operator=(const VideoReader&) = delete;
+
+  const VideoInfo& info() const;
+  const std::string& path() const;
+
+  // Decodes the next frame; false at the end of the stream. Throws when the
+  // stream ends before the frame count its container promises, or on corrupt
+  // data.
+  bool Read(VideoFrame* frame);
+  // Decodes the next frame without converting it (for decode-speed
+  // measurements and skipping); false at the end.
+  bool Skip();
+
+  // Returns the frame on screen at `time_s` (Read() then continues after it);
+  // throws when the time is outside the video or the frame landed on differs
+  // from the request by more than half a frame.
+  VideoFrame SeekTo(double time_s);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_VIDEO_READER_H_

@@ -1,0 +1,190 @@
+#include "vision/video_writer.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/display.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+#include "util/input_error.h"
+#include "vision/ffmpeg_util.h"
+
+namespace softbench {
+
+std::optional<std::string> VideoWriterOptions::Check() const {
+  if (codec != "h264" && codec != "hevc") {
+    return "codec must be h264 or hevc";
+  }
+  if (!(fps > 0.0) || fps > 1000.0) return "fps must be in (0, 1000]";
+  if (crf < 0 || crf > 51) return "crf must be between 0 and 51";
+  if (threads < 1) return "threads must be >= 1";
+  if (!(keyframe_interval_s > 0.0)) return "keyframe interval must be > 0";
+  if (rotation_deg % 90 != 0) return "rotation must be a multiple of 90";
+  return std::nullopt;
+}
+
+struct VideoWriter::State {
+  std::string path;
+  AVFormatContext* format = nullptr;
+  AVCodecContext* codec = nullptr;
+  AVStream* stream = nullptr;
+  AVFrame* frame = nullptr;
+  AVPacket* packet = nullptr;
+  SwsContext* sws = nullptr;
+  int64_t next_pts = 0;
+  bool open = false;
+
+  [[noreturn]] void Fail(const std::string& what, int error) const {
+    throw InputError(path + ": " + what + " (" + FfmpegError(error) + ")");
+  }
+
+  // Sends `input` (nullptr flushes) and writes every packet that comes out.
+  void Encode(const AVFrame* input) {
+    int err = avcodec_send_frame(codec, input);
+    if (err < 0) Fail("encoding failed", err);
+    for (;;) {
+      err = avcodec_receive_packet(codec, packet);
+      if (err == AVERROR(EAGAIN) || err == AVERROR_EOF) return;
+      if (err < 0) Fail("encoding failed", err);
+      // Each packet lasts one frame, so the container's duration counts the
+      // last frame too.
+      if (packet->duration == 0) packet->duration = 1;
+      av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
+      packet->stream_index = stream->index;
+      err = av_interleaved_write_frame(format, packet);
+      if (err < 0) Fail("writing failed", err);
+    }
+  }
+
+  ~State() {
+    sws_freeContext(sws);
+    av_frame_free(&frame);
+    av_packet_free(&packet);
+    avcodec_free_context(&codec);
+    if (format != nullptr) {
+      if (format->pb != nullptr) avio_closep(&format->pb);
+      avformat_free_context(format);
+    }
+  }
+};
+
+VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
+                         const VideoWriterOptions& options)
+    : state_(std::make_unique<State>()) {
+  assert(!options.Check());
+  State& s = *state_;
+  s.path = path;
+  av_log_set_level(AV_LOG_QUIET);
+  int err =
+      avformat_alloc_output_context2(&s.format, nullptr, "mp4", path.c_str());
+  if (err < 0) s.Fail("cannot create the container", err);
+  // No creation time or library version strings: reproducible files.
+  s.format->flags |= AVFMT_FLAG_BITEXACT;
+  const char* encoder_name = options.codec == "hevc" ? "libx265" : "libx264";
+  const AVCodec* encoder = avcodec_find_encoder_by_name(encoder_name);
+  if (encoder == nullptr) {
+    throw InputError(path + ": FFmpeg has no " + encoder_name +
+                     " encoder; install Debian's ffmpeg libraries");
+  }
+  s.codec = avcodec_alloc_context3(encoder);
+  s.codec->width = width_px;
+  s.codec->height = height_px;
+  s.codec->pix_fmt = AV_PIX_FMT_YUV420P;
+  s.codec->time_base = av_d2q(1.0 / options.fps, 1 << 20);
+  s.codec->framerate = av_d2q(options.fps, 1 << 20);
+  s.codec->gop_size = std::max(
+      1,
+      static_cast<int>(std::lround(options.fps * options.keyframe_interval_s)));
+  s.codec->thread_count = options.threads;
+  s.codec->color_primaries = AVCOL_PRI_BT709;
+  s.codec->color_trc = AVCOL_TRC_BT709;
+  s.codec->colorspace = AVCOL_SPC_BT709;
+  s.codec->color_range = AVCOL_RANGE_MPEG;
+  s.codec->flags |= AV_CODEC_FLAG_BITEXACT;
+  if (s.format->oformat->flags & AVFMT_GLOBALHEADER) {
+    s.codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+  }
+  av_opt_set(s.codec->priv_data, "preset", options.preset.c_str(), 0);
+  av_opt_set(s.codec->priv_data, "crf", std::to_string(options.crf).c_str(), 0);
+  if (options.codec == "hevc") {
+    av_opt_set(s.codec->priv_data, "x265-params",
+               ("log-level=none:pools=" + std::to_string(options.threads) +
+                ":frame-threads=1")
+                   .c_str(),
+               0);
+    s.codec->codec_tag = MKTAG('h', 'v', 'c', '1');  // playable on Apple
+  }
+  err = avcodec_open2(s.codec, encoder, nullptr);
+  if (err < 0) s.Fail(std::string("cannot open ") + encoder_name, err);
+
+  s.stream = avformat_new_stream(s.format, nullptr);
+  avcodec_parameters_from_context(s.stream->codecpar, s.codec);
+  s.stream->time_base = s.codec->time_base;
+  if (options.rotation_deg % 360 != 0) {
+    auto* matrix = reinterpret_cast<int32_t*>(av_stream_new_side_data(
+        s.stream, AV_PKT_DATA_DISPLAYMATRIX, 9 * sizeof(int32_t)));
+    // As phones write it: av_display_rotation_get() of this matrix is minus
+    // the clockwise rotation a player applies (ffmpeg's autorotate).
+    av_display_rotation_set(matrix, options.rotation_deg);
+  }
+  err = avio_open(&s.format->pb, path.c_str(), AVIO_FLAG_WRITE);
+  if (err < 0) s.Fail("cannot create the file", err);
+  AVDictionary* muxer_options = nullptr;
+  av_dict_set(&muxer_options, "movflags", "+faststart", 0);
+  err = avformat_write_header(s.format, &muxer_options);
+  av_dict_free(&muxer_options);
+  if (err < 0) s.Fail("cannot write the header", err);
+
+  s.frame = av_frame_alloc();
+  s.frame->format = AV_PIX_FMT_YUV420P;
+  s.frame->width = width_px;
+  s.frame->height = height_px;
+  err = av_frame_get_buffer(s.frame, 0);
+  if (err < 0) s.Fail("out of memory", err);
+  s.packet = av_packet_alloc();
+  s.sws =
+      sws_getContext(width_px, height_px, AV_PIX_FMT_BGR24, width_px, height_px,
+                     AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND,
+                     nullptr, nullptr, nullptr);
+  SetColorspace(s.sws, AVCOL_SPC_BT709, AVCOL_RANGE_MPEG);
+  s.open = true;
+}
+
+VideoWriter::~VideoWriter() {
+  try {
+    Close();
+  } catch (const InputError&) {
+    // Destructors must not throw; Close() reports errors when called.
+  }
+}
+
+void VideoWriter::Write(const cv::Mat& bgr) {
+  State& s = *state_;
+  assert(s.open && bgr.type() == CV_8UC3 && bgr.cols == s.codec->width &&
+         bgr.rows == s.codec->height);
+  const int err = av_frame_make_writable(s.frame);
+  if (err < 0) s.Fail("out of memory", err);
+  const uint8_t* src[] = {bgr.data};
+  const int src_stride[] = {static_cast<int>(bgr.step)};
+  sws_scale(s.sws, src, src_stride, 0, bgr.rows, s.frame->data,
+            s.frame->linesize);
+  s.frame->pts = s.next_pts++;
+  s.Encode(s.frame);
+}
+
+void VideoWriter::Close() {
+  State& s = *state_;
+  if (!s.open) return;
+  s.open = false;
+  s.Encode(nullptr);
+  const int err = av_write_trailer(s.format);
+  if (err < 0) s.Fail("cannot finish the file", err);
+}
+
+}  // namespace softbench
