@@ -86,6 +86,10 @@ void AddRenderCommand(CLI::App* app, RenderCommandOptions* options) {
   c->add_option("--focal-35mm", options->focal_35mm,
                 "35 mm-equivalent focal length")
       ->capture_default_str();
+  c->add_option("--focal-px", options->focal_px,
+                "focal length in pixels (overrides --focal-35mm)");
+  c->add_option("--principal-point", options->principal_point,
+                "principal point cx,cy in pixels (default: the image centre)");
   c->add_option("--tilt-deg", options->tilt_deg,
                 "camera tilt about the image x and y axes, e.g. 5,0");
   c->add_option("--distortion", options->distortion,
@@ -115,6 +119,17 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   RenderOptions& render = options.render;
   render.intrinsics = CameraIntrinsics::FromEquivalentFocalLength(
       options.focal_35mm, size.width, size.height);
+  if (options.focal_px < 0.0) throw InputError("--focal-px: must be > 0");
+  if (options.focal_px > 0.0) {
+    render.intrinsics.fx_px = render.intrinsics.fy_px = options.focal_px;
+  }
+  if (!options.principal_point.empty()) {
+    const std::vector<double> c =
+        ParseNumberList(options.principal_point, "--principal-point");
+    if (c.size() != 2) throw InputError("--principal-point: give cx,cy");
+    render.intrinsics.cx_px = c[0];
+    render.intrinsics.cy_px = c[1];
+  }
   if (!options.tilt_deg.empty()) {
     const std::vector<double> tilt =
         ParseNumberList(options.tilt_deg, "--tilt-deg");

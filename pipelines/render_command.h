@@ -23,8 +23,10 @@ struct RenderCommandOptions {
   std::string preset = "medium";
   double fps = 30.0;
   double focal_35mm = 52.0;
-  std::string tilt_deg;    // "x,y"
-  std::string distortion;  // "k1,k2,p1,p2,k3"
+  double focal_px = 0.0;        // overrides focal_35mm when > 0
+  std::string principal_point;  // "cx,cy" in pixels; default: the centre
+  std::string tilt_deg;         // "x,y"
+  std::string distortion;       // "k1,k2,p1,p2,k3"
   bool no_motion_blur = false;
   bool quiet = false;
   RenderOptions render;  // distance, noise, distractors, seed

@@ -36,6 +36,22 @@ bool InPolygon(const std::vector<Eigen::Vector2d>& ccw,
   return true;
 }
 
+// Pixels around the projections of plane points at `height`, with a margin
+// for anti-aliasing; the points must enclose the shape (projection maps
+// lines to lines, so the shape's image stays inside theirs).
+cv::Rect ImageBox(const Camera& camera,
+                  const std::vector<Eigen::Vector2d>& points, double height) {
+  std::vector<cv::Point2f> projected;
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2d q =
+        camera.Project(Eigen::Vector3d(p.x(), p.y(), height));
+    projected.emplace_back(static_cast<float>(q.x()),
+                           static_cast<float>(q.y()));
+  }
+  const cv::Rect r = cv::boundingRect(projected);
+  return {r.x - 3, r.y - 3, r.width + 6, r.height + 6};
+}
+
 double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                          const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
@@ -219,16 +235,13 @@ void SceneRenderer::DrawStatic() {
   const Eigen::Matrix3d on_ring = camera_.NormalizedFromPlane(0.0).inverse();
   const auto box = [&](const Eigen::Vector2d& centre, double radius,
                        double height) {
-    std::vector<cv::Point2f> points;
+    std::vector<Eigen::Vector2d> circle;
     for (int i = 0; i < 16; ++i) {
       const double a = 2 * std::numbers::pi * i / 16;
-      const Eigen::Vector2d p = camera_.Project(
-          Eigen::Vector3d(centre.x() + radius * std::cos(a),
-                          centre.y() + radius * std::sin(a), height));
-      points.emplace_back(p.x(), p.y());
+      circle.push_back(centre +
+                       radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
     }
-    cv::Rect r = cv::boundingRect(points);
-    return cv::Rect(r.x - 3, r.y - 3, r.width + 6, r.height + 6);
+    return ImageBox(camera_, circle, height);
   };
 
   // Ring with a pad from each fixed anchor out to it (the mating surfaces).
@@ -351,14 +364,7 @@ void SceneRenderer::DrawMoving(const Eigen::VectorXd& displacements_mm,
   };
   const auto box = [&](const std::vector<Eigen::Vector2d>& points,
                        double height) {
-    std::vector<cv::Point2f> projected;
-    for (const Eigen::Vector2d& p : points) {
-      const Eigen::Vector2d q =
-          camera_.Project(Eigen::Vector3d(p.x(), p.y(), height));
-      projected.emplace_back(q.x(), q.y());
-    }
-    const cv::Rect r = cv::boundingRect(projected);
-    return cv::Rect(r.x - 3, r.y - 3, r.width + 6, r.height + 6);
+    return ImageBox(camera_, points, height);
   };
 
   // Bellows, cosmetic: a 22 mm wide band from anchor to head, mid-height.

@@ -117,7 +117,11 @@ struct VideoReader::State {
     const int w = frame->width, h = frame->height;
     if (options.want_luma) {
       const cv::Mat plane(h, w, CV_8UC1, frame->data[0], frame->linesize[0]);
-      Rotate(plane, &out->luma);
+      if (info.rotation_deg == 0) {
+        out->luma = plane;  // a view: no copy on the hot path
+      } else {
+        Rotate(plane, &out->luma);
+      }
     } else {
       out->luma.release();
     }
@@ -126,7 +130,7 @@ struct VideoReader::State {
           sws, w, h, static_cast<AVPixelFormat>(frame->format), w, h,
           AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr, nullptr);
       SetColorspace(sws, frame->colorspace, frame->color_range);
-      cv::Mat bgr(h, w, CV_8UC3);
+      cv::Mat bgr(h, w, CV_8UC3);  // owned: converted, not a view
       uint8_t* dst[] = {bgr.data};
       const int dst_stride[] = {static_cast<int>(bgr.step)};
       sws_scale(sws, frame->data, frame->linesize, 0, h, dst, dst_stride);
@@ -149,7 +153,7 @@ struct VideoReader::State {
         cv::rotate(in, *out, cv::ROTATE_90_COUNTERCLOCKWISE);
         break;
       default:
-        in.copyTo(*out);
+        *out = in;
     }
   }
 };

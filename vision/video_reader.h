@@ -10,7 +10,9 @@ namespace softbench {
 
 // One decoded frame. `luma` is the full-resolution Y plane (the channel that
 // locates edges; chroma is subsampled in 4:2:0 video), `bgr` the colour image;
-// each is filled only when VideoReaderOptions asks for it.
+// each is filled only when VideoReaderOptions asks for it. For an unrotated
+// video `luma` is a view of the decoder's buffer, valid until the reader's
+// next Read() or SeekTo(): clone() it to keep it.
 struct VideoFrame {
   int64_t index = 0;    // 0-based frame number, from the timestamp
   double time_s = 0.0;  // presentation time from the start of the stream

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "util/input_error.h"
+#include "util/text_file.h"
 
 namespace softbench {
 namespace {
@@ -82,6 +83,19 @@ TEST(TestPlan, ErrorsNameTheLineAndSayWhatToChange) {
   EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\ntest:\n")
                 .find("unknown key"),
             std::string::npos);
+}
+
+TEST(TestPlan, DocumentedExampleParses) {
+  const std::string doc = ReadTextFile(
+      std::string(SOFTBENCH_SOURCE_DIR) + "/docs/file-formats.md", "doc");
+  const size_t section = doc.find("## Test plan");
+  const size_t begin = doc.find("```yaml\n", section) + 8;
+  const TestPlan plan =
+      ParseTestPlan(doc.substr(begin, doc.find("```", begin) - begin),
+                    "docs/file-formats.md");
+  EXPECT_EQ(plan.tests.size(), 2u);
+  EXPECT_EQ(plan.tests[1].residual_offset_mm.x(), 0.1);
+  EXPECT_EQ(*plan.calibration.tag->center_mm, Eigen::Vector2d(60, -60));
 }
 
 }  // namespace

@@ -1,0 +1,93 @@
+// Video benchmarks (issue: synthetic bench footage): render speed at 1080p and
+// 4K, and decode speed of VideoReader on the files named after "--" (made by
+// bench/run_video_bench.sh, which also times ffmpeg on the same files).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "pipelines/scene_renderer.h"
+#include "vision/video_reader.h"
+
+namespace softbench {
+namespace {
+
+// One frame of the delta sample's scene, heads still (one exposure sample) or
+// moving (four, for motion blur).
+void BM_RenderFrame(benchmark::State& state, cv::Size size, bool moving) {
+  const TestPlan plan = LoadTestPlan(std::string(SOFTBENCH_SOURCE_DIR) +
+                                     "/samples/delta/plan.yaml");
+  RenderOptions options;
+  options.intrinsics =
+      CameraIntrinsics::FromEquivalentFocalLength(52, size.width, size.height);
+  const SceneRenderer renderer(plan, options);
+  int64_t frame = 0;
+  for (auto _ : state) {
+    std::vector<Eigen::VectorXd> samples;
+    for (int j = 0; j < (moving ? 4 : 1); ++j) {
+      const double phase = 0.01 * (4 * frame + j);
+      samples.push_back(Eigen::Vector2d(std::sin(phase), std::cos(phase)));
+    }
+    benchmark::DoNotOptimize(renderer.Render(samples, frame++).data);
+  }
+  state.counters["fps"] = benchmark::Counter(
+      static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK_CAPTURE(BM_RenderFrame, 1080p_still, cv::Size(1920, 1080), false)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderFrame, 1080p_moving, cv::Size(1920, 1080), true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderFrame, 4k_still, cv::Size(3840, 2160), false)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Decodes the whole file: decode only (Skip), or with the luma plane each
+// later stage reads.
+void BM_Decode(benchmark::State& state, std::string path, bool luma) {
+  int64_t frames = 0;
+  for (auto _ : state) {
+    VideoReaderOptions options;
+    options.want_bgr = false;
+    options.want_luma = luma;
+    VideoReader reader(path, options);
+    VideoFrame frame;
+    frames = 0;
+    while (luma ? reader.Read(&frame) : reader.Skip()) ++frames;
+  }
+  state.counters["frames"] = static_cast<double>(frames);
+  state.counters["fps"] =
+      benchmark::Counter(static_cast<double>(frames),
+                         benchmark::Counter::kIsIterationInvariantRate);
+}
+
+}  // namespace
+}  // namespace softbench
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  // Files after "--" get decode benchmarks.
+  bool files = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") {
+      files = true;
+      continue;
+    }
+    if (!files) continue;
+    const std::string name = arg.substr(arg.find_last_of('/') + 1);
+    benchmark::RegisterBenchmark(("BM_Decode/" + name + "/decode_only").c_str(),
+                                 softbench::BM_Decode, arg, false)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+    benchmark::RegisterBenchmark(("BM_Decode/" + name + "/with_luma").c_str(),
+                                 softbench::BM_Decode, arg, true)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
