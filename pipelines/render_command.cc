@@ -58,7 +58,8 @@ void AddRenderCommand(CLI::App* app, RenderCommandOptions* options) {
   CLI::App* c = app->add_subcommand(
       "render", "Render bench footage of a test plan, with exact ground truth");
   c->add_option("--plan", options->plan_path, "test plan YAML")->required();
-  c->add_option("--output", options->output_path, "video to write (.mp4)")
+  c->add_option("--output", options->output_path,
+                "video to write (.mp4, or .mov for QuickTime)")
       ->required();
   c->add_option("--truth", options->truth_path, "per-frame truth CSV to write")
       ->required();

@@ -81,8 +81,12 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
   State& s = *state_;
   s.path = path;
   av_log_set_level(AV_LOG_QUIET);
-  int err =
-      avformat_alloc_output_context2(&s.format, nullptr, "mp4", path.c_str());
+  // The container follows the extension (.mov: QuickTime, as phones write);
+  // MP4 otherwise.
+  const bool mov =
+      path.size() >= 4 && path.compare(path.size() - 4, 4, ".mov") == 0;
+  int err = avformat_alloc_output_context2(&s.format, nullptr,
+                                           mov ? "mov" : "mp4", path.c_str());
   if (err < 0) s.Fail("cannot create the container", err);
   // No creation time or library version strings: reproducible files.
   s.format->flags |= AVFMT_FLAG_BITEXACT;

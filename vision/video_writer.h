@@ -27,8 +27,8 @@ struct VideoWriterOptions {
   std::optional<std::string> Check() const;
 };
 
-// Encodes BGR frames into MP4 (H.264 or HEVC, yuv420p, BT.709 limited range,
-// moov atom first). Writes to `path` directly; callers wanting atomic output
+// Encodes BGR frames into MP4, or QuickTime MOV for a ".mov" path (H.264 or
+// HEVC, yuv420p, BT.709 limited range, moov atom first). Writes to `path` directly; callers wanting atomic output
 // write to a temporary path and rename it.
 class VideoWriter {
  public:

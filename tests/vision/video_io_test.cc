@@ -93,6 +93,16 @@ TEST(VideoIo, HevcRoundTrips) {
   EXPECT_EQ(k, 20);
 }
 
+TEST(VideoIo, QuickTimeMovRoundTrips) {
+  const std::string path = WriteVideo("softbench_io.mov", 12);
+  VideoReader reader(path);
+  EXPECT_EQ(reader.info().frame_count, 12);
+  VideoFrame frame;
+  int k = 0;
+  while (reader.Read(&frame)) EXPECT_TRUE(IsFrame(frame.bgr, k++, {320, 240}));
+  EXPECT_EQ(k, 12);
+}
+
 TEST(VideoIo, SeekLandsOnTheRequestedFrame) {
   VideoWriterOptions options;
   options.keyframe_interval_s = 0.3;
