@@ -28,8 +28,9 @@ struct VideoWriterOptions {
 };
 
 // Encodes BGR frames into MP4, or QuickTime MOV for a ".mov" path (H.264 or
-// HEVC, yuv420p, BT.709 limited range, moov atom first). Writes to `path` directly; callers wanting atomic output
-// write to a temporary path and rename it.
+// HEVC, yuv420p, BT.709 limited range, moov atom first). Writes to `path`
+// directly; callers wanting atomic output write to a temporary path and rename
+// it.
 class VideoWriter {
  public:
   VideoWriter(const std::string& path, int width_px, int height_px,
