@@ -3,6 +3,8 @@
 // which also runs the SciPy peer on the same map.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
+
 #include "model/units.h"
 #include "model/workspace.h"
 #include "pipelines/mechanism_io.h"
@@ -12,9 +14,8 @@ namespace {
 
 WorkspaceOptions PsiLevels(double max_psi, double step_psi, int threads) {
   WorkspaceOptions options;
-  for (double p = 0.0; p <= max_psi + 1e-9; p += step_psi) {
-    options.pressure_levels_mpa.push_back(p * kMpaPerPsi);
-  }
+  options.pressure_levels_mpa = EvenPressureLevels(
+      max_psi * kMpaPerPsi, static_cast<int>(std::lround(max_psi / step_psi)));
   options.num_threads = threads;
   return options;
 }

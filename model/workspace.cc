@@ -51,6 +51,16 @@ class GrayCounter {
 
 }  // namespace
 
+std::vector<double> EvenPressureLevels(double max_mpa, int num_intervals) {
+  assert(num_intervals >= 0);
+  if (num_intervals == 0) return {0.0};
+  std::vector<double> levels;
+  for (int i = 0; i <= num_intervals; ++i) {
+    levels.push_back(max_mpa * i / num_intervals);
+  }
+  return levels;
+}
+
 std::optional<std::string> WorkspaceOptions::Check() const {
   if (pressure_levels_mpa.empty()) return "no pressure levels given";
   for (double level : pressure_levels_mpa) {

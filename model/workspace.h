@@ -21,6 +21,10 @@ struct WorkspaceOptions {
   std::optional<std::string> Check() const;
 };
 
+// num_intervals + 1 levels from 0 to max_mpa inclusive, evenly spaced (level
+// i is max_mpa * i / num_intervals, so the top level is exactly max_mpa).
+std::vector<double> EvenPressureLevels(double max_mpa, int num_intervals);
+
 // Extents of one head's displacement over the converged configurations.
 struct HeadExtents {
   Eigen::Vector2d min_mm = Eigen::Vector2d::Zero();  // (y, z)

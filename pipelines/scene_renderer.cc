@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
-#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "model/units.h"
@@ -202,15 +201,7 @@ SceneRenderer::SceneRenderer(const TestPlan& plan, const RenderOptions& options)
       for (int i = 0; i <= k.width_px; ++i)
         corners.emplace_back(i - 0.5, j - 0.5);
     }
-    std::vector<cv::Point2d> undistorted;
-    cv::undistortPoints(
-        corners, undistorted, k.CameraMatrix(), k.distortion, cv::noArray(),
-        cv::noArray(),
-        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100,
-                         1e-15));
-    pixels->corners.reserve(undistorted.size());
-    for (const cv::Point2d& p : undistorted)
-      pixels->corners.emplace_back(p.x, p.y);
+    pixels->corners = camera_.UndistortPixels(corners);
   }
   pixels_ = pixels;
   DrawStatic();

@@ -61,20 +61,27 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
 
   WorkspaceOptions workspace_options;
   workspace_options.num_threads = options.threads;
-  for (long long i = 0; i <= num_intervals; ++i) {
-    workspace_options.pressure_levels_mpa.push_back(
-        options.max_pressure * static_cast<double>(i) / num_intervals *
-        resolved.mpa_per_unit);
+  // Levels in the user's unit, written back as given (no MPa round trip).
+  const std::vector<double> levels =
+      EvenPressureLevels(options.max_pressure, static_cast<int>(num_intervals));
+  for (double level : levels) {
+    workspace_options.pressure_levels_mpa.push_back(level *
+                                                    resolved.mpa_per_unit);
   }
-  if (num_intervals == 0) workspace_options.pressure_levels_mpa = {0.0};
   const EquilibriumProblem problem(resolved.mechanism, resolved.force_model);
   const WorkspaceMap map = ComputeWorkspace(problem, workspace_options);
 
   if (!options.output_path.empty()) {
     PredictionTable table(resolved.mechanism);
+    const int radix = static_cast<int>(levels.size());
+    Eigen::VectorXd pressures(num_actuators);
     for (int i = 0; i < map.pressures_mpa.rows(); ++i) {
-      table.AddRow(map.pressures_mpa.row(i).transpose() / resolved.mpa_per_unit,
-                   map.displacements_mm.row(i).transpose(), map.summaries[i]);
+      // Row i holds level digits of i in base `radix`, p1 slowest.
+      for (int k = num_actuators - 1, rest = i; k >= 0; --k, rest /= radix) {
+        pressures[k] = levels[rest % radix];
+      }
+      table.AddRow(pressures, map.displacements_mm.row(i).transpose(),
+                   map.summaries[i]);
     }
     WriteFileAtomically(options.output_path, table.text());
   }

@@ -98,14 +98,21 @@ Eigen::Vector2d Camera::Undistort(const Eigen::Vector2d& pixel) const {
     return {(pixel.x() - intrinsics_.cx_px) / intrinsics_.fx_px,
             (pixel.y() - intrinsics_.cy_px) / intrinsics_.fy_px};
   }
-  const std::vector<cv::Point2d> in = {{pixel.x(), pixel.y()}};
+  return UndistortPixels({{pixel.x(), pixel.y()}})[0];
+}
+
+std::vector<Eigen::Vector2d> Camera::UndistortPixels(
+    const std::vector<cv::Point2d>& pixels) const {
   std::vector<cv::Point2d> out;
   cv::undistortPoints(
-      in, out, intrinsics_.CameraMatrix(), intrinsics_.distortion,
+      pixels, out, intrinsics_.CameraMatrix(), intrinsics_.distortion,
       cv::noArray(), cv::noArray(),
       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100,
                        1e-15));
-  return {out[0].x, out[0].y};
+  std::vector<Eigen::Vector2d> normalized;
+  normalized.reserve(out.size());
+  for (const cv::Point2d& p : out) normalized.emplace_back(p.x, p.y);
+  return normalized;
 }
 
 Eigen::Matrix3d Camera::NormalizedFromPlane(double plane_height_mm) const {

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace softbench {
 
@@ -62,6 +63,9 @@ class Camera {
   // Distorted pixels to ideal normalised coordinates (OpenCV's iterative
   // undistortion, run to convergence rather than its default 5 iterations).
   Eigen::Vector2d Undistort(const Eigen::Vector2d& pixel) const;
+  // The same for many pixels in one call (OpenCV's batch undistortion).
+  std::vector<Eigen::Vector2d> UndistortPixels(
+      const std::vector<cv::Point2d>& pixels) const;
   bool HasDistortion() const;
 
   // Homography from a world plane Z = height (homogeneous (X, Y, 1)) to

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "model/units.h"
 #include "tests/model/thesis_mechanisms.h"
@@ -12,9 +13,8 @@ namespace {
 
 WorkspaceOptions PsiLevels(double max_psi, double step_psi, int threads = 0) {
   WorkspaceOptions options;
-  for (double p = 0.0; p <= max_psi + 1e-9; p += step_psi) {
-    options.pressure_levels_mpa.push_back(p * kMpaPerPsi);
-  }
+  options.pressure_levels_mpa = EvenPressureLevels(
+      max_psi * kMpaPerPsi, static_cast<int>(std::lround(max_psi / step_psi)));
   options.num_threads = threads;
   return options;
 }
