@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Render and decode benchmarks side by side with ffmpeg (docs/benchmarks.md).
+# Render, decode and measurement benchmarks side by side with their peers:
+# ffmpeg (decode) and bench/peers/dots_opencv.py (the textbook Python/OpenCV
+# dot pipeline), on the same files (docs/benchmarks.md).
 # Usage: bench/run_video_bench.sh [repetitions]   (default 5)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -44,4 +46,14 @@ for file in "${files[@]}"; do
   median=$(python3 -c "import json; print(json.load(open('$media/ff.json'))['results'][0]['median'])")
   frames=$(ffprobe -v error -select_streams v -show_entries stream=nb_frames -of csv=p=0 "$file")
   echo "$(basename "$file"): median $median s, $frames frames"
+done
+
+echo "== peer: bench/peers/dots_opencv.py (Python + OpenCV, full frame), median of $repetitions =="
+for file in "${files[@]}"; do
+  fps=()
+  for _ in $(seq "$repetitions"); do
+    fps+=("$(/usr/bin/python3 bench/peers/dots_opencv.py "$file" | cut -d' ' -f3)")
+  done
+  median=$(printf '%s\n' "${fps[@]}" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
+  echo "$(basename "$file"): median $median fps"
 done

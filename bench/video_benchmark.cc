@@ -1,6 +1,7 @@
-// Video benchmarks (issue: synthetic bench footage): render speed at 1080p and
-// 4K, and decode speed of VideoReader on the files named after "--" (made by
-// bench/run_video_bench.sh, which also times ffmpeg on the same files).
+// Video benchmarks: render speed at 1080p and 4K, and, on the files named
+// after "--" (made by bench/run_video_bench.sh, which also times ffmpeg and
+// the Python/OpenCV peer on the same files), decode speed of VideoReader and
+// measurement speed (region tracking, full-frame detection).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -8,6 +9,9 @@
 #include <vector>
 
 #include "pipelines/scene_renderer.h"
+#include "pipelines/video_measurement.h"
+#include "vision/frame_source.h"
+#include "vision/head_tracker.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -63,6 +67,46 @@ void BM_Decode(benchmark::State& state, std::string path, bool luma) {
                          benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// Measures every head in every frame of a rendered clip (its plan is the
+// plan.yaml beside it): region tracking after the first frame, or the full
+// image every frame. The scale comes from the tag once, outside the timing.
+void BM_Measure(benchmark::State& state, std::string path, bool full_frame) {
+  const std::string plan_path =
+      path.substr(0, path.find_last_of('/') + 1) + "plan.yaml";
+  const TestPlan plan = LoadTestPlan(plan_path);
+  VideoReaderOptions options;
+  options.want_bgr = false;
+  CameraIntrinsics intrinsics;
+  {
+    VideoReader probe(path, options);
+    intrinsics =
+        PlanIntrinsics(plan, probe.info().width_px, probe.info().height_px);
+  }
+  std::string source;
+  const PlaneMapping mapping = PlanMapping(plan, path, intrinsics, 3, &source);
+  HeadTrackerOptions tracker_options;
+  tracker_options.full_frame_every_frame = full_frame;
+  int64_t frames = 0, missing = 0;
+  for (auto _ : state) {
+    VideoReader reader(path, options);
+    HeadTracker tracker(mapping, PlanHeadMarkers(plan), tracker_options);
+    VideoFrame frame;
+    frames = missing = 0;
+    while (reader.Read(&frame)) {
+      for (const HeadObservation& o :
+           tracker.Measure(VideoFrameSource(&reader, &frame))) {
+        missing += static_cast<int64_t>(o.dots.size()) - o.dots_found;
+      }
+      ++frames;
+    }
+  }
+  state.counters["frames"] = static_cast<double>(frames);
+  state.counters["missing_dots"] = static_cast<double>(missing);
+  state.counters["fps"] =
+      benchmark::Counter(static_cast<double>(frames),
+                         benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 }  // namespace softbench
 
@@ -84,6 +128,14 @@ int main(int argc, char** argv) {
         ->UseRealTime();
     benchmark::RegisterBenchmark(("BM_Decode/" + name + "/with_luma").c_str(),
                                  softbench::BM_Decode, arg, true)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+    benchmark::RegisterBenchmark(("BM_Measure/" + name + "/tracking").c_str(),
+                                 softbench::BM_Measure, arg, false)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+    benchmark::RegisterBenchmark(("BM_Measure/" + name + "/full_frame").c_str(),
+                                 softbench::BM_Measure, arg, true)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }

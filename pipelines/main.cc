@@ -6,9 +6,12 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "pipelines/calibrate_camera_command.h"
 #include "pipelines/inverse_command.h"
 #include "pipelines/predict_command.h"
 #include "pipelines/render_command.h"
+#include "pipelines/track_command.h"
+#include "pipelines/tune_command.h"
 #include "pipelines/workspace_command.h"
 #include "util/input_error.h"
 
@@ -38,6 +41,12 @@ int main(int argc, char** argv) {
   softbench::AddWorkspaceCommand(&app, &workspace);
   softbench::AddInverseCommand(&app, &inverse);
   softbench::AddRenderCommand(&app, &render);
+  softbench::TrackCommandOptions track;
+  softbench::AddTrackCommand(&app, &track);
+  softbench::TuneCommandOptions tune;
+  softbench::AddTuneCommand(&app, &tune);
+  softbench::CalibrateCameraCommandOptions calibrate_camera;
+  softbench::AddCalibrateCameraCommand(&app, &calibrate_camera);
 
   try {
     app.parse(argc, argv);
@@ -62,6 +71,17 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("render")) {
       render.quiet = quiet;
       return softbench::RunRender(render, std::cout);
+    }
+    if (app.got_subcommand("track")) {
+      track.quiet = quiet;
+      return softbench::RunTrack(track, std::cout);
+    }
+    if (app.got_subcommand("tune")) {
+      return softbench::RunTune(tune, std::cout);
+    }
+    if (app.got_subcommand("calibrate-camera")) {
+      calibrate_camera.quiet = quiet;
+      return softbench::RunCalibrateCamera(calibrate_camera, std::cout);
     }
   } catch (const softbench::InputError& e) {
     spdlog::error("{}", e.what());

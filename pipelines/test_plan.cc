@@ -13,13 +13,12 @@
 #include "util/input_error.h"
 #include "util/text_file.h"
 #include "util/yaml_reader.h"
+#include "vision/color_segmentation.h"
 
 namespace softbench {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr const char* kColors[] = {"red", "green", "blue", "yellow", "magenta"};
 
 bool IsBuiltin(const std::string& name) {
   for (const std::string& builtin : BuiltinMechanismNames()) {
@@ -51,8 +50,31 @@ double Positive(const YamlReader& reader, const YAML::Node& node,
 
 void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
                       TestPlan* plan) {
-  reader.CheckKeys(node, {"tag", "plane_offset_mm", "intrinsics"});
+  reader.CheckKeys(
+      node,
+      {"tag", "plane_offset_mm", "intrinsics", "focal_length_35mm", "mm_per_px",
+       "image_rotation_deg", "scale_from_dots", "distortion_tolerance"});
   CalibrationSpec& c = plan->calibration;
+  if (const YAML::Node focal = node["focal_length_35mm"]) {
+    c.focal_length_35mm = Positive(reader, focal, "focal_length_35mm");
+  }
+  if (const YAML::Node scale = node["mm_per_px"]) {
+    c.mm_per_px = Positive(reader, scale, "mm_per_px");
+  }
+  if (const YAML::Node rotation = node["image_rotation_deg"]) {
+    c.image_rotation_deg = reader.Number(rotation, "image_rotation_deg");
+  }
+  if (const YAML::Node dots = node["scale_from_dots"]) {
+    if (!dots.IsScalar() ||
+        (dots.Scalar() != "true" && dots.Scalar() != "false")) {
+      reader.Fail(dots, "scale_from_dots", "must be true or false");
+    }
+    c.scale_from_dots = dots.Scalar() == "true";
+  }
+  if (const YAML::Node tolerance = node["distortion_tolerance"]) {
+    c.distortion_tolerance =
+        Positive(reader, tolerance, "distortion_tolerance");
+  }
   if (const YAML::Node offset = node["plane_offset_mm"]) {
     c.plane_offset_mm = reader.Number(offset, "plane_offset_mm");
   }
@@ -85,6 +107,12 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
     }
     c.tag = tag;
   }
+  const int scales =
+      (c.tag ? 1 : 0) + (c.mm_per_px ? 1 : 0) + (c.scale_from_dots ? 1 : 0);
+  if (scales > 1) {
+    reader.Fail(node, "calibration",
+                "give one scale: tag, mm_per_px or scale_from_dots");
+  }
 }
 
 void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
@@ -92,8 +120,8 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
   if (!node.IsSequence()) reader.Fail(node, "markers", "must be a list");
   std::vector<bool> seen(plan->mechanism.NumHeads(), false);
   for (const YAML::Node& entry : node) {
-    reader.CheckKeys(entry,
-                     {"head", "color", "dots", "dot_diameter_mm", "layout_mm"});
+    reader.CheckKeys(entry, {"head", "color", "dots", "dot_diameter_mm",
+                             "layout_mm", "hsv"});
     MarkerSpec marker;
     const YAML::Node head = reader.Require(entry, "head");
     const std::string head_name = reader.String(head, "head");
@@ -112,8 +140,7 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
     seen[marker.head] = true;
     if (const YAML::Node color = entry["color"]) {
       marker.color = reader.String(color, "color");
-      if (std::find(std::begin(kColors), std::end(kColors), marker.color) ==
-          std::end(kColors)) {
+      if (!BuiltinHsvRange(marker.color)) {
         reader.Fail(color, "color",
                     "'" + marker.color +
                         "' is not one of red, green, blue, yellow, magenta");
@@ -128,6 +155,24 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
     }
     if (const YAML::Node diameter = entry["dot_diameter_mm"]) {
       marker.dot_diameter_mm = Positive(reader, diameter, "dot_diameter_mm");
+    }
+    if (const YAML::Node hsv = entry["hsv"]) {
+      if (!hsv.IsSequence() || hsv.size() != 6) {
+        reader.Fail(hsv, "hsv",
+                    "must be [h_low, h_high, s_low, s_high, v_low, v_high] "
+                    "(as softbench tune prints)");
+      }
+      std::array<int, 6> bounds{};
+      for (size_t i = 0; i < 6; ++i) {
+        const double v = reader.Number(hsv[i], "hsv");
+        if (v != std::floor(v))
+          reader.Fail(hsv, "hsv", "must be whole numbers");
+        bounds[i] = static_cast<int>(v);
+      }
+      const HsvRange range{bounds[0], bounds[1], bounds[2],
+                           bounds[3], bounds[4], bounds[5]};
+      if (auto problem = range.Check()) reader.Fail(hsv, "hsv", *problem);
+      marker.hsv = bounds;
     }
     if (const YAML::Node layout = entry["layout_mm"]) {
       if (!layout.IsSequence() ||
@@ -339,7 +384,8 @@ TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
     for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
       MarkerSpec marker;
       marker.head = h;
-      marker.color = kColors[h % std::size(kColors)];
+      const auto& colors = BuiltinColorNames();
+      marker.color = colors[h % colors.size()];
       plan.markers.push_back(marker);
     }
   }
@@ -386,8 +432,30 @@ std::string TestPlanToYaml(const TestPlan& plan,
       << std::string(VariantName(plan.force_model));
   out << YAML::Key << "pressure_unit" << YAML::Value << plan.pressure_unit;
   out << YAML::Key << "calibration" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "plane_offset_mm" << YAML::Value
-      << plan.calibration.plane_offset_mm;
+  const CalibrationSpec& c = plan.calibration;
+  out << YAML::Key << "plane_offset_mm" << YAML::Value << c.plane_offset_mm;
+  // Keys beyond the defaults only when set, so rendered plans stay short.
+  if (!c.intrinsics_path.empty()) {
+    out << YAML::Key << "intrinsics" << YAML::Value
+        << relative(c.intrinsics_path);
+  }
+  if (c.focal_length_35mm != CalibrationSpec().focal_length_35mm) {
+    out << YAML::Key << "focal_length_35mm" << YAML::Value
+        << c.focal_length_35mm;
+  }
+  if (c.mm_per_px)
+    out << YAML::Key << "mm_per_px" << YAML::Value << *c.mm_per_px;
+  if (c.scale_from_dots) {
+    out << YAML::Key << "scale_from_dots" << YAML::Value << true;
+  }
+  if (c.mm_per_px || c.scale_from_dots) {
+    out << YAML::Key << "image_rotation_deg" << YAML::Value
+        << c.image_rotation_deg;
+  }
+  if (c.distortion_tolerance != CalibrationSpec().distortion_tolerance) {
+    out << YAML::Key << "distortion_tolerance" << YAML::Value
+        << c.distortion_tolerance;
+  }
   if (plan.calibration.tag) {
     const TagSpec& tag = *plan.calibration.tag;
     out << YAML::Key << "tag" << YAML::Value << YAML::Flow << YAML::BeginMap;
@@ -414,7 +482,13 @@ std::string TestPlanToYaml(const TestPlan& plan,
     for (const Eigen::Vector2d& p : m.layout_mm) {
       out << YAML::Flow << YAML::BeginSeq << p.x() << p.y() << YAML::EndSeq;
     }
-    out << YAML::EndSeq << YAML::EndMap;
+    out << YAML::EndSeq;
+    if (m.hsv) {
+      out << YAML::Key << "hsv" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (int v : *m.hsv) out << v;
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
   }
   out << YAML::EndSeq;
   out << YAML::Key << "windows" << YAML::Value << YAML::Flow << YAML::BeginMap

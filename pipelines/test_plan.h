@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_TEST_PLAN_H_
 
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,19 @@ struct CalibrationSpec {
   // heads are 26 mm tall, the ring 10 mm.
   double plane_offset_mm = 16.0;
   std::string intrinsics_path;  // OpenCV YAML; empty: none
+  // Without an intrinsics file: the lens's 35 mm-equivalent focal length
+  // (the thesis's iPhone 12 Pro main camera at 1x: 52 mm), no distortion.
+  double focal_length_35mm = 52.0;
+  // Without a tag: a given scale at the image centre and the image's
+  // rotation (world +y is image right turned counter-clockwise by it) ...
+  std::optional<double> mm_per_px;
+  double image_rotation_deg = 0.0;
+  // ... or the scale from the first head's dots, a known distance apart
+  // (their layout_mm), with that rotation.
+  bool scale_from_dots = false;
+  // Largest relative scale difference across the field before the
+  // distortion check warns (see docs/measurement.md).
+  double distortion_tolerance = 0.002;
 };
 
 // The dots on one head (thesis fig. 4.7: red dots on the feedback head).
@@ -39,6 +53,9 @@ struct MarkerSpec {
   // Dot centres relative to the head centre [mm]; a head's position is the
   // centre of its dots, so the layout is centred (mean zero).
   std::vector<Eigen::Vector2d> layout_mm;
+  // HSV bounds [h_low, h_high, s_low, s_high, v_low, v_high] (OpenCV units,
+  // as `softbench tune` prints); unset: the colour's built-in range.
+  std::optional<std::array<int, 6>> hsv;
 };
 
 struct PlanTest {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs, with apt-get, exactly the Debian 12 packages softbench needs that
 # are missing; running it again installs nothing. `--bench` adds what the
-# benchmark peers under bench/peers/ need (Python with SciPy, hyperfine).
+# benchmark peers under bench/peers/ need (Python with SciPy and OpenCV,
+# hyperfine).
 set -euo pipefail
 
 packages=(
@@ -13,7 +14,7 @@ packages=(
   libgtest-dev libbenchmark-dev
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(python3 python3-numpy python3-scipy hyperfine ffmpeg)
+  packages+=(python3 python3-numpy python3-scipy python3-opencv hyperfine ffmpeg)
 fi
 
 missing=()

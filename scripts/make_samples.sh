@@ -15,7 +15,7 @@ render() {  # name seed
   mkdir -p "$out/$1"
   "$softbench" render --plan "samples/$1/plan.yaml" --output "$out/$1/$1.mp4" \
     --truth "$out/$1/truth.csv" --plan-out "$out/$1/rendered.plan.yaml" \
-    --resolution 1080p --codec h264 --crf 20 --keyframe-interval-s 4 --seed "$2"
+    --resolution 1080p --codec h264 --crf 20 --keyframe-interval-s 2 --seed "$2"
 }
 render delta 11
 render floating 12

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
 
@@ -10,6 +11,7 @@ extern "C" {
 #include <libavformat/avformat.h>
 #include <libavutil/display.h>
 #include <libavutil/imgutils.h>
+#include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 }
 
@@ -27,6 +29,7 @@ struct VideoReader::State {
   AVPacket* packet = nullptr;
   AVFrame* frame = nullptr;
   SwsContext* sws = nullptr;
+  SwsContext* region_sws = nullptr;  // cached for the last region size
   int stream = -1;
   AVRational time_base{1, 1};
   int64_t start_pts = 0;
@@ -38,6 +41,7 @@ struct VideoReader::State {
 
   ~State() {
     sws_freeContext(sws);
+    sws_freeContext(region_sws);
     av_frame_free(&frame);
     av_packet_free(&packet);
     avcodec_free_context(&codec);
@@ -126,18 +130,26 @@ struct VideoReader::State {
       out->luma.release();
     }
     if (options.want_bgr) {
-      sws = sws_getCachedContext(
-          sws, w, h, static_cast<AVPixelFormat>(frame->format), w, h,
-          AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr, nullptr);
-      SetColorspace(sws, frame->colorspace, frame->color_range);
-      cv::Mat bgr(h, w, CV_8UC3);  // owned: converted, not a view
-      uint8_t* dst[] = {bgr.data};
-      const int dst_stride[] = {static_cast<int>(bgr.step)};
-      sws_scale(sws, frame->data, frame->linesize, 0, h, dst, dst_stride);
-      Rotate(bgr, &out->bgr);
+      Rotate(ConvertBgr(&sws, frame->data, frame->linesize, w, h), &out->bgr);
     } else {
       out->bgr.release();
     }
+  }
+
+  // Converts a w x h picture (planes `data`) to BGR with `*context`.
+  cv::Mat ConvertBgr(SwsContext** context, const uint8_t* const* data,
+                     const int* linesize, int w, int h) {
+    *context = sws_getCachedContext(
+        *context, w, h, static_cast<AVPixelFormat>(frame->format), w, h,
+        AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr, nullptr);
+    SetColorspace(*context, frame->colorspace, frame->color_range);
+    // swscale's vector code writes whole 16-pixel blocks: rows padded to
+    // them (and aligned), then cut to the width.
+    cv::Mat padded(h, (w + 15) / 16 * 16, CV_8UC3);
+    uint8_t* dst[] = {padded.data};
+    const int dst_stride[] = {static_cast<int>(padded.step)};
+    sws_scale(*context, data, linesize, 0, h, dst, dst_stride);
+    return padded.colRange(0, w);  // owned: converted, not a view
   }
 
   // Applies the rotation metadata (clockwise degrees) like ffmpeg's autorotate.
@@ -271,6 +283,52 @@ VideoFrame VideoReader::SeekTo(double time_s) {
   VideoFrame frame;
   s.Convert(&frame);
   return frame;
+}
+
+cv::Mat VideoReader::BgrRegion(const cv::Rect& region) {
+  State& s = *state_;
+  const cv::Rect clipped =
+      region & cv::Rect(0, 0, s.info.width_px, s.info.height_px);
+  if (clipped.empty() || s.last_good_index < 0) return {};
+  const AVPixFmtDescriptor* desc =
+      av_pix_fmt_desc_get(static_cast<AVPixelFormat>(s.frame->format));
+  const bool planar =
+      desc != nullptr && (desc->flags & AV_PIX_FMT_FLAG_PLANAR) != 0 &&
+      (desc->flags & (AV_PIX_FMT_FLAG_HWACCEL | AV_PIX_FMT_FLAG_RGB)) == 0;
+  if (s.info.rotation_deg != 0 || !planar) {
+    // Rare path (phone portrait video, packed formats): convert it all.
+    cv::Mat full;
+    s.Rotate(s.ConvertBgr(&s.sws, s.frame->data, s.frame->linesize,
+                          s.frame->width, s.frame->height),
+             &full);
+    return full(clipped).clone();
+  }
+  // Grow the region to whole chroma samples, point each plane at its
+  // corner, convert, and cut the request out of it.
+  const int align_x = 1 << desc->log2_chroma_w,
+            align_y = 1 << desc->log2_chroma_h;
+  const int x0 = clipped.x / align_x * align_x,
+            y0 = clipped.y / align_y * align_y;
+  const int x1 = std::min(s.frame->width,
+                          (clipped.br().x + align_x - 1) / align_x * align_x),
+            y1 = std::min(s.frame->height,
+                          (clipped.br().y + align_y - 1) / align_y * align_y);
+  const uint8_t* data[4] = {};
+  for (int c = 0; c < desc->nb_components; ++c) {
+    const AVComponentDescriptor& comp = desc->comp[c];
+    const bool chroma = c == 1 || c == 2;
+    const int px = chroma ? x0 >> desc->log2_chroma_w : x0;
+    const int py = chroma ? y0 >> desc->log2_chroma_h : y0;
+    data[comp.plane] =
+        s.frame->data[comp.plane] +
+        static_cast<ptrdiff_t>(py) * s.frame->linesize[comp.plane] +
+        static_cast<ptrdiff_t>(px) * comp.step;
+  }
+  const cv::Mat bgr =
+      s.ConvertBgr(&s.region_sws, data, s.frame->linesize, x1 - x0, y1 - y0);
+  return bgr(cv::Rect(clipped.x - x0, clipped.y - y0, clipped.width,
+                      clipped.height))
+      .clone();
 }
 
 }  // namespace softbench

@@ -65,6 +65,13 @@ class VideoReader {
   // from the request by more than half a frame.
   VideoFrame SeekTo(double time_s);
 
+  // The colour of a region (display coordinates, clipped to the frame) of
+  // the frame last returned by Read() or SeekTo(), converted with the same
+  // matrix as VideoFrame::bgr. Only the region is converted for unrotated
+  // planar YUV video, so tracking a few dots does not pay for a full-frame
+  // conversion; an empty Mat when the region misses the frame.
+  cv::Mat BgrRegion(const cv::Rect& region);
+
  private:
   struct State;
   std::unique_ptr<State> state_;

@@ -83,6 +83,35 @@ TEST(TestPlan, ErrorsNameTheLineAndSayWhatToChange) {
   EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\ntest:\n")
                 .find("unknown key"),
             std::string::npos);
+  const std::string delta_test = "tests:\n  - {id: a, pressures: [1, 2, 3]}\n";
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\ncalibration:\n"
+                    "  tag: {id: 1}\n  mm_per_px: 0.2\n" +
+                    delta_test)
+                .find("give one scale: tag, mm_per_px or scale_from_dots"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\nmarkers:\n"
+                    "  - {head: head, hsv: [0, 200, 0, 255, 0, 255]}\n" +
+                    delta_test)
+                .find("plan.yaml:4: hsv: hue bounds must be 0..179"),
+            std::string::npos);
+}
+
+TEST(TestPlan, MeasurementKeysRoundTrip) {
+  const TestPlan plan = ParseTestPlan(
+      "mechanism: delta\npressure_unit: psi\ncalibration:\n"
+      "  scale_from_dots: true\n  image_rotation_deg: 90\n"
+      "  focal_length_35mm: 26\n  distortion_tolerance: 0.001\n"
+      "markers:\n  - {head: head, hsv: [172, 8, 90, 255, 40, 255]}\n"
+      "tests:\n  - {id: a, pressures: [1, 2, 3]}\n",
+      "plan.yaml");
+  const TestPlan again = ParseTestPlan(TestPlanToYaml(plan, "."), "again.yaml");
+  EXPECT_TRUE(again.calibration.scale_from_dots);
+  EXPECT_EQ(again.calibration.image_rotation_deg, 90.0);
+  EXPECT_EQ(again.calibration.focal_length_35mm, 26.0);
+  EXPECT_EQ(again.calibration.distortion_tolerance, 0.001);
+  ASSERT_TRUE(again.markers[0].hsv);
+  EXPECT_EQ(*again.markers[0].hsv,
+            (std::array<int, 6>{172, 8, 90, 255, 40, 255}));
 }
 
 TEST(TestPlan, DocumentedExampleParses) {

@@ -115,7 +115,9 @@ TEST(VideoIo, SeekLandsOnTheRequestedFrame) {
     EXPECT_TRUE(IsFrame(frame.bgr, expected, {320, 240})) << t;
     VideoFrame next;
     ASSERT_TRUE(reader.Read(&next) || expected == 59);
-    if (expected < 59) EXPECT_EQ(next.index, expected + 1);
+    if (expected < 59) {
+      EXPECT_EQ(next.index, expected + 1);
+    }
   }
   EXPECT_THROW(reader.SeekTo(2.5), InputError);
   EXPECT_THROW(reader.SeekTo(-1.0), InputError);
@@ -133,6 +135,43 @@ TEST(VideoIo, RotationMetadataIsApplied) {
   ASSERT_TRUE(reader.Read(&frame));
   EXPECT_TRUE(IsFrame(frame.bgr, 0, {320, 240}, cv::ROTATE_90_CLOCKWISE));
   EXPECT_EQ(frame.luma.cols, 240);
+}
+
+// Largest per-channel difference between a region's colour and the same
+// pixels of the full frame, away from the region's own edge (where chroma
+// interpolation has no outside neighbours).
+int RegionMismatch(VideoReader* reader, const VideoFrame& frame,
+                   const cv::Rect& region) {
+  const cv::Mat part = reader->BgrRegion(region);
+  EXPECT_EQ(part.size(), (region & cv::Rect({}, frame.bgr.size())).size());
+  const cv::Rect inner(2, 2, part.cols - 4, part.rows - 4);
+  cv::Mat difference;
+  cv::absdiff(part(inner),
+              frame.bgr(region & cv::Rect({}, frame.bgr.size()))(inner),
+              difference);
+  double largest = 0.0;
+  cv::minMaxLoc(difference.reshape(1), nullptr, &largest);
+  return static_cast<int>(largest);
+}
+
+TEST(VideoIo, RegionColourMatchesTheFullFrame) {
+  const std::string path = WriteVideo("softbench_io_region.mp4", 3);
+  VideoReader reader(path);
+  VideoFrame frame;
+  ASSERT_TRUE(reader.Read(&frame));
+  // Odd corners and sizes, and a region cut by the frame's edge.
+  for (const cv::Rect& region :
+       {cv::Rect(33, 41, 67, 67), cv::Rect(100, 100, 20, 30),
+        cv::Rect(290, 200, 60, 60)}) {
+    EXPECT_LE(RegionMismatch(&reader, frame, region), 2) << region;
+  }
+  EXPECT_TRUE(reader.BgrRegion(cv::Rect(400, 400, 10, 10)).empty());
+  // Rotated video takes the full-frame path and agrees too.
+  VideoWriterOptions rotated;
+  rotated.rotation_deg = 90;
+  VideoReader turned(WriteVideo("softbench_io_region_rotated.mp4", 2, rotated));
+  ASSERT_TRUE(turned.Read(&frame));
+  EXPECT_EQ(RegionMismatch(&turned, frame, cv::Rect(31, 17, 50, 40)), 0);
 }
 
 TEST(VideoIo, TruncatedFileIsAClearErrorNamingTheLastGoodFrame) {

@@ -1,0 +1,149 @@
+#include "calibration/camera_calibration.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "util/input_error.h"
+#include "util/text_file.h"
+
+namespace softbench {
+
+std::optional<std::string> BoardOptions::Check() const {
+  if (corners_x < 3 || corners_y < 3) {
+    return "the board needs at least 3 x 3 inner corners";
+  }
+  if (corners_x == corners_y) {
+    return "use a board with different corner counts per side (e.g. 9 x 6), "
+           "so its orientation is unambiguous";
+  }
+  if (!(square_mm > 0.0)) return "the square size must be > 0 mm";
+  return std::nullopt;
+}
+
+std::optional<std::string> CameraCalibrationOptions::Check() const {
+  if (auto problem = board.Check()) return problem;
+  if (min_views < 3) return "min_views must be >= 3";
+  return std::nullopt;
+}
+
+std::vector<cv::Point2f> FindBoardCorners(const cv::Mat& gray,
+                                          const BoardOptions& options) {
+  std::vector<cv::Point2f> corners;
+  const cv::Size pattern(options.corners_x, options.corners_y);
+  if (!cv::findChessboardCorners(
+          gray, pattern, corners,
+          cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)) {
+    return {};
+  }
+  cv::cornerSubPix(
+      gray, corners, cv::Size(5, 5), cv::Size(-1, -1),
+      cv::TermCriteria(cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 100,
+                       1e-4));
+  return corners;
+}
+
+CameraCalibrationSummary CalibrateCamera(
+    const std::vector<std::vector<cv::Point2f>>& corners_per_view,
+    const cv::Size& image_size, const CameraCalibrationOptions& options) {
+  CameraCalibrationSummary summary;
+  std::vector<std::vector<cv::Point3f>> object_points;
+  std::vector<std::vector<cv::Point2f>> image_points;
+  std::vector<cv::Point3f> board;
+  for (int y = 0; y < options.board.corners_y; ++y) {
+    for (int x = 0; x < options.board.corners_x; ++x) {
+      board.emplace_back(static_cast<float>(x * options.board.square_mm),
+                         static_cast<float>(y * options.board.square_mm), 0.f);
+    }
+  }
+  for (const auto& corners : corners_per_view) {
+    if (corners.size() != board.size()) continue;
+    object_points.push_back(board);
+    image_points.push_back(corners);
+  }
+  const int views = static_cast<int>(image_points.size());
+  if (views < options.min_views) {
+    summary.why_not = fmt::format(
+        "the board ({} x {} inner corners) was found in {} view{}, fewer "
+        "than {}; film it from more angles or check --board",
+        options.board.corners_x, options.board.corners_y, views,
+        views == 1 ? "" : "s", options.min_views);
+    return summary;
+  }
+  cv::Mat camera_matrix, distortion;
+  std::vector<cv::Mat> rvecs, tvecs;
+  const int flags = options.fit_k3 ? 0 : cv::CALIB_FIX_K3;
+  const double rms = cv::calibrateCamera(
+      object_points, image_points, image_size, camera_matrix, distortion, rvecs,
+      tvecs, flags,
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200,
+                       1e-12));
+  CameraCalibration& c = summary.calibration;
+  c.width_px = image_size.width;
+  c.height_px = image_size.height;
+  c.camera_matrix = cv::Matx33d(camera_matrix);
+  for (int i = 0; i < 5; ++i) c.distortion[i] = distortion.at<double>(i);
+  c.reprojection_error_px = rms;
+  c.views = views;
+  summary.converged = std::isfinite(rms);
+  if (!summary.converged) summary.why_not = "the fit diverged";
+  return summary;
+}
+
+std::string CameraCalibrationToYaml(const CameraCalibration& calibration) {
+  cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY |
+                                  cv::FileStorage::FORMAT_YAML);
+  fs << "image_width" << calibration.width_px;
+  fs << "image_height" << calibration.height_px;
+  fs << "camera_matrix" << cv::Mat(calibration.camera_matrix);
+  fs << "distortion_coefficients"
+     << cv::Mat(1, 5, CV_64F,
+                const_cast<double*>(calibration.distortion.data()));
+  fs << "avg_reprojection_error" << calibration.reprojection_error_px;
+  fs << "views" << calibration.views;
+  return fs.releaseAndGetString();
+}
+
+CameraCalibration LoadCameraCalibration(const std::string& path) {
+  const std::string text = ReadTextFile(path, "camera intrinsics");
+  cv::FileStorage fs;
+  try {
+    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": not an OpenCV YAML/XML file (" + e.err +
+                     "); write it with softbench calibrate-camera");
+  }
+  const auto require = [&](const char* key) {
+    const cv::FileNode node = fs[key];
+    if (node.empty()) {
+      throw InputError(path + ": missing '" + key +
+                       "'; write the file with softbench calibrate-camera");
+    }
+    return node;
+  };
+  CameraCalibration c;
+  c.width_px = static_cast<int>(require("image_width"));
+  c.height_px = static_cast<int>(require("image_height"));
+  cv::Mat matrix, distortion;
+  require("camera_matrix") >> matrix;
+  require("distortion_coefficients") >> distortion;
+  if (matrix.rows != 3 || matrix.cols != 3 || distortion.total() < 4 ||
+      distortion.total() > 5 || c.width_px <= 0 || c.height_px <= 0) {
+    throw InputError(path +
+                     ": camera_matrix must be 3x3, distortion_coefficients "
+                     "4 or 5 values, image sizes positive");
+  }
+  matrix.convertTo(matrix, CV_64F);
+  distortion.convertTo(distortion, CV_64F);
+  c.camera_matrix = cv::Matx33d(matrix);
+  for (size_t i = 0; i < distortion.total(); ++i) {
+    c.distortion[i] = distortion.at<double>(static_cast<int>(i));
+  }
+  if (const cv::FileNode error = fs["avg_reprojection_error"]; !error.empty())
+    c.reprojection_error_px = static_cast<double>(error);
+  return c;
+}
+
+}  // namespace softbench

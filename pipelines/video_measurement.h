@@ -1,0 +1,102 @@
+#ifndef SOFTBENCH_PIPELINES_VIDEO_MEASUREMENT_H_
+#define SOFTBENCH_PIPELINES_VIDEO_MEASUREMENT_H_
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipelines/test_plan.h"
+#include "vision/head_tracker.h"
+#include "vision/plane_mapping.h"
+
+namespace softbench {
+
+struct VideoMeasurementOptions {
+  // Frames from the start whose tag corners are combined (median).
+  int tag_frames = 10;
+  // The rest position is the median over the frames before the first
+  // actuation (plan times) or, without times, over the first `rest_s`.
+  double rest_s = 1.0;
+  HeadTrackerOptions tracker;
+  bool progress = true;
+
+  std::optional<std::string> Check() const;
+};
+
+// One head in one frame.
+struct HeadSample {
+  HeadObservation observation;
+  // Displacement from the head's rest position [mm] (NaN when no dot was
+  // found), from the luma-refined centres and from the thesis's binary ones.
+  Eigen::Vector2d displacement_mm;
+  Eigen::Vector2d binary_displacement_mm;
+};
+
+struct FrameSample {
+  int64_t frame = 0;
+  double time_s = 0.0;
+  std::vector<HeadSample> heads;  // in the plan's head order
+};
+
+// The distortion check without intrinsics: the dots' spacing, measured
+// through the mapping, over the plan's layout spacing, at every frame.
+struct DistortionCheck {
+  bool performed = false;
+  double median_ratio = 1.0;
+  double min_ratio = 1.0, max_ratio = 1.0;  // 5th and 95th percentiles
+  double tolerance = 0.0;
+  bool warn = false;
+  std::string message;
+};
+
+struct VideoMeasurement {
+  std::string video_path;
+  std::string scale_source;  // "tag 0 (10 frames)", "mm_per_px", ...
+  double mm_per_px = 0.0;    // at the image centre, dot plane
+  std::vector<Eigen::Vector2d> rest_mm;  // per head, plane coordinates
+  std::vector<FrameSample> frames;
+  int missing_dots = 0;       // dot-frames without a dot
+  int full_frame_frames = 0;  // frames that needed a full-image search
+  int rejected_blobs = 0;     // same-colour blobs rejected in all frames
+  DistortionCheck distortion;
+};
+
+// The camera intrinsics the plan implies for a video of the given size: its
+// intrinsics file (checked against the size) or its focal length.
+CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
+                                int height_px);
+
+// Pixels to the dot plane as the plan's calibration says: from its tag
+// (median of the corners over the video's first `tag_frames` frames) or its
+// mm_per_px. `source` receives a name for it ("tag 0", "mm_per_px").
+PlaneMapping PlanMapping(const TestPlan& plan, const std::string& video_path,
+                         const CameraIntrinsics& intrinsics, int tag_frames,
+                         std::string* source);
+
+// The plan's heads as the tracker needs them.
+std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan);
+
+// Measures every frame of a video of the plan's mechanism (thesis 4.1.3,
+// done with sub-pixel centres and a calibrated scale). Throws InputError
+// when the scale or the first frame's heads cannot be found, saying what was
+// seen and what to change.
+VideoMeasurement MeasureVideo(const TestPlan& plan,
+                              const std::string& video_path,
+                              const VideoMeasurementOptions& options);
+
+// The distortion check over measured frames (every complete head): warns
+// when the dots' spacing through the mapping departs from the plan's layout
+// by more than the plan's distortion_tolerance, on average or across the
+// frames. `scale_source` names the mapping in the message.
+DistortionCheck CheckDistortion(const TestPlan& plan,
+                                const std::vector<FrameSample>& frames,
+                                const std::string& scale_source);
+
+// The per-frame trajectory CSV (docs/file-formats.md).
+std::string TrajectoryCsv(const TestPlan& plan,
+                          const VideoMeasurement& measurement);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_VIDEO_MEASUREMENT_H_

@@ -1,0 +1,86 @@
+// Camera calibration from rendered checkerboards with a known lens.
+#include "calibration/camera_calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "tests/vision/board_images.h"
+#include "util/atomic_file.h"
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(CameraCalibration, RecoversFocalLengthAndDistortion) {
+  CameraIntrinsics truth =
+      CameraIntrinsics::FromEquivalentFocalLength(52.0, 1920, 1080);
+  truth.distortion[0] = -0.1;
+  BoardOptions board{9, 6, 20.0};
+  std::vector<std::vector<cv::Point2f>> corners;
+  const BoardRenderer renderer(truth, 9, 6, 20.0);
+  int seed = 1;
+  for (const Camera& view : BoardViews(truth, 600.0)) {
+    corners.push_back(
+        FindBoardCorners(renderer.Render(view, 0.6, seed++), board));
+  }
+  const CameraCalibrationSummary summary =
+      CalibrateCamera(corners, {1920, 1080}, {board, 5, false});
+  ASSERT_TRUE(summary.converged) << summary.why_not;
+  const CameraCalibration& c = summary.calibration;
+  EXPECT_GE(c.views, 10);
+  EXPECT_NEAR(c.camera_matrix(0, 0), truth.fx_px, 0.003 * truth.fx_px);
+  EXPECT_NEAR(c.camera_matrix(0, 2), truth.cx_px, 3.0);
+  EXPECT_NEAR(c.distortion[0], -0.1, 0.01);
+  EXPECT_LT(c.reprojection_error_px, 0.1);
+}
+
+TEST(CameraCalibration, YamlRoundTripsThroughOpenCvFormat) {
+  CameraCalibration c;
+  c.width_px = 1920;
+  c.height_px = 1080;
+  c.camera_matrix = cv::Matx33d(2650.5, 0, 961.25, 0, 2651.5, 538.75, 0, 0, 1);
+  c.distortion = {-0.1, 0.02, 1e-4, -2e-4, 0.0};
+  c.reprojection_error_px = 0.042;
+  c.views = 12;
+  const fs::path path = fs::temp_directory_path() / "softbench_camera.yaml";
+  WriteFileAtomically(path.string(), CameraCalibrationToYaml(c));
+  const CameraCalibration back = LoadCameraCalibration(path.string());
+  EXPECT_EQ(back.width_px, 1920);
+  EXPECT_EQ(back.height_px, 1080);
+  for (int i = 0; i < 9; ++i)
+    EXPECT_DOUBLE_EQ(back.camera_matrix.val[i], c.camera_matrix.val[i]);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_DOUBLE_EQ(back.distortion[i], c.distortion[i]);
+  EXPECT_DOUBLE_EQ(back.reprojection_error_px, 0.042);
+  fs::remove(path);
+}
+
+TEST(CameraCalibration, MissingKeyNamesFileAndKey) {
+  const fs::path path = fs::temp_directory_path() / "softbench_camera_bad.yaml";
+  WriteFileAtomically(
+      path.string(), "%YAML:1.0\n---\nimage_width: 1920\nimage_height: 1080\n");
+  try {
+    LoadCameraCalibration(path.string());
+    FAIL() << "accepted a file without camera_matrix";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "softbench_camera_bad.yaml: missing 'camera_matrix'"),
+              std::string::npos)
+        << e.what();
+  }
+  fs::remove(path);
+}
+
+TEST(CameraCalibration, TooFewViewsSaysHowMany) {
+  const CameraCalibrationSummary summary =
+      CalibrateCamera({{}, {}}, {1920, 1080}, CameraCalibrationOptions{});
+  EXPECT_FALSE(summary.converged);
+  EXPECT_NE(summary.why_not.find("found in 0 views"), std::string::npos)
+      << summary.why_not;
+}
+
+}  // namespace
+}  // namespace softbench

@@ -1,0 +1,89 @@
+#include "vision/color_segmentation.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace softbench {
+namespace {
+
+// A BGR pixel of the given OpenCV HSV.
+cv::Vec3b Bgr(int h, int s, int v) {
+  cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(h, s, v)), bgr;
+  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+  return bgr.at<cv::Vec3b>(0, 0);
+}
+
+TEST(HsvRange, RedWrapsThroughOneEighty) {
+  const HsvRange red = *BuiltinHsvRange("red");
+  EXPECT_TRUE(red.Wraps());
+  EXPECT_TRUE(red.Contains({178, 200, 200}));
+  EXPECT_TRUE(red.Contains({3, 200, 200}));
+  EXPECT_FALSE(red.Contains({90, 200, 200}));
+  EXPECT_FALSE(red.Contains({3, 40, 200}));  // unsaturated: the resin
+  // The mask agrees with Contains on both sides of the wrap.
+  cv::Mat image(1, 4, CV_8UC3);
+  image.at<cv::Vec3b>(0, 0) = Bgr(178, 200, 200);
+  image.at<cv::Vec3b>(0, 1) = Bgr(2, 200, 200);
+  image.at<cv::Vec3b>(0, 2) = Bgr(60, 200, 200);
+  image.at<cv::Vec3b>(0, 3) = Bgr(160, 200, 200);
+  const cv::Mat mask = ColorMask(image, red);
+  EXPECT_EQ(mask.at<uint8_t>(0, 0), 255);
+  EXPECT_EQ(mask.at<uint8_t>(0, 1), 255);
+  EXPECT_EQ(mask.at<uint8_t>(0, 2), 0);
+  EXPECT_EQ(mask.at<uint8_t>(0, 3), 0);
+}
+
+TEST(HsvRange, EveryBuiltinIsValidAndUnknownNamesAreNot) {
+  for (const std::string& name : BuiltinColorNames()) {
+    ASSERT_TRUE(BuiltinHsvRange(name)) << name;
+    EXPECT_FALSE(BuiltinHsvRange(name)->Check()) << name;
+  }
+  EXPECT_FALSE(BuiltinHsvRange("purple"));
+  EXPECT_TRUE((HsvRange{0, 200, 0, 255, 0, 255}.Check()));
+  EXPECT_TRUE((HsvRange{0, 10, 200, 100, 0, 255}.Check()));
+}
+
+TEST(FindBlobs, KeepsDotsAndRejectsATubeAndSpecks) {
+  cv::Mat image(200, 300, CV_8UC3, cv::Scalar(214, 217, 220));
+  const cv::Scalar red(40, 40, 200);
+  cv::circle(image, {50, 50}, 10, red, cv::FILLED, cv::LINE_AA);
+  cv::circle(image, {120, 60}, 10, red, cv::FILLED, cv::LINE_AA);
+  cv::line(image, {20, 150}, {280, 170}, red, 9);               // a tube
+  cv::circle(image, {250, 40}, 1, red, cv::FILLED);             // a speck
+  cv::rectangle(image, {180, 80}, {240, 88}, red, cv::FILLED);  // a bar
+  SegmentationOptions options;
+  options.dot_radius_px = 10.0;
+  const BlobSummary blobs =
+      SegmentDots(image, *BuiltinHsvRange("red"), options, {5, 7});
+  ASSERT_EQ(blobs.accepted.size(), 2u);
+  EXPECT_NEAR(blobs.accepted[0].centroid.x(), 55.0, 0.2);  // offset applied
+  EXPECT_NEAR(blobs.accepted[0].centroid.y(), 57.0, 0.2);
+  EXPECT_GT(blobs.accepted[0].circularity, 0.8);
+  EXPECT_EQ(blobs.TotalRejected(), 2);  // tube (area) and bar (shape)
+}
+
+TEST(LearnHsvRange, HoldsTheDotsAndWrapsForRed) {
+  cv::Mat image(100, 100, CV_8UC3, cv::Scalar(214, 217, 220));
+  cv::Mat cores = cv::Mat::zeros(100, 100, CV_8UC1);
+  cv::RNG rng(3);
+  for (int y = 20; y < 40; ++y) {
+    for (int x = 20; x < 40; ++x) {
+      // Reds on both sides of hue 0.
+      const int h = (180 + rng.uniform(-6, 7)) % 180;
+      image.at<cv::Vec3b>(y, x) = Bgr(h, rng.uniform(170, 230), 190);
+      cores.at<uint8_t>(y, x) = 255;
+    }
+  }
+  const LearnedHsvRange learned = LearnHsvRange(image, cores, cores);
+  EXPECT_EQ(learned.dot_pixels, 400);
+  EXPECT_DOUBLE_EQ(learned.dot_coverage, 1.0);
+  EXPECT_EQ(learned.outside_pixels, 0);
+  EXPECT_TRUE(learned.range.Wraps());
+  EXPECT_GE(learned.range.hue_low, 160);
+  EXPECT_LE(learned.range.hue_high, 20);
+  EXPECT_FALSE(learned.range.Check());
+}
+
+}  // namespace
+}  // namespace softbench

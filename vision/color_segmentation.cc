@@ -1,0 +1,276 @@
+#include "vision/color_segmentation.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+namespace softbench {
+
+bool HsvRange::Contains(const cv::Vec3b& hsv) const {
+  const bool hue = Wraps() ? (hsv[0] >= hue_low || hsv[0] <= hue_high)
+                           : (hsv[0] >= hue_low && hsv[0] <= hue_high);
+  return hue && hsv[1] >= saturation_low && hsv[1] <= saturation_high &&
+         hsv[2] >= value_low && hsv[2] <= value_high;
+}
+
+std::optional<std::string> HsvRange::Check() const {
+  if (hue_low < 0 || hue_low > 179 || hue_high < 0 || hue_high > 179) {
+    return "hue bounds must be 0..179 (OpenCV units; low > high wraps "
+           "through 180)";
+  }
+  if (saturation_low < 0 || saturation_high > 255 ||
+      saturation_low > saturation_high) {
+    return "saturation bounds must satisfy 0 <= low <= high <= 255";
+  }
+  if (value_low < 0 || value_high > 255 || value_low > value_high) {
+    return "value bounds must satisfy 0 <= low <= high <= 255";
+  }
+  return std::nullopt;
+}
+
+// Printed dots are saturated; the resin heads, bellows and table are not
+// (saturation < 70 in the thesis's footage and our renderings), so the
+// saturation floor does most of the separating and hue names the colour.
+std::optional<HsvRange> BuiltinHsvRange(const std::string& color) {
+  if (color == "red") return HsvRange{170, 10, 100, 255, 50, 255};
+  if (color == "green") return HsvRange{40, 85, 90, 255, 40, 255};
+  if (color == "blue") return HsvRange{95, 130, 100, 255, 40, 255};
+  if (color == "yellow") return HsvRange{18, 35, 100, 255, 60, 255};
+  if (color == "magenta") return HsvRange{140, 168, 90, 255, 40, 255};
+  return std::nullopt;
+}
+
+const std::vector<std::string>& BuiltinColorNames() {
+  static const std::vector<std::string> kNames = {"red", "green", "blue",
+                                                  "yellow", "magenta"};
+  return kNames;
+}
+
+std::optional<std::string> SegmentationOptions::Check() const {
+  if (!(dot_radius_px >= 1.5)) {
+    return fmt::format(
+        "the expected dot radius is {:.2f} px; dots need a radius of at "
+        "least 1.5 px (use a larger dot or a closer camera)",
+        dot_radius_px);
+  }
+  if (!(morphology_fraction >= 0.0 && morphology_fraction < 1.0)) {
+    return "morphology_fraction must be in [0, 1)";
+  }
+  if (!(min_area_fraction > 0.0 && max_area_fraction > min_area_fraction)) {
+    return "area fractions must satisfy 0 < min < max";
+  }
+  if (!(min_circularity >= 0.0 && min_circularity <= 1.0) ||
+      !(min_fill >= 0.0 && min_fill <= 1.0)) {
+    return "min_circularity and min_fill must be in [0, 1]";
+  }
+  return std::nullopt;
+}
+
+cv::Mat ColorMask(const cv::Mat& bgr, const HsvRange& range) {
+  cv::Mat hsv, mask;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  if (!range.Wraps()) {
+    cv::inRange(
+        hsv, cv::Scalar(range.hue_low, range.saturation_low, range.value_low),
+        cv::Scalar(range.hue_high, range.saturation_high, range.value_high),
+        mask);
+    return mask;
+  }
+  // One wrapped range: hue >= low or hue <= high, the rest as usual.
+  cv::Mat upper;
+  cv::inRange(hsv,
+              cv::Scalar(range.hue_low, range.saturation_low, range.value_low),
+              cv::Scalar(179, range.saturation_high, range.value_high), upper);
+  cv::inRange(
+      hsv, cv::Scalar(0, range.saturation_low, range.value_low),
+      cv::Scalar(range.hue_high, range.saturation_high, range.value_high),
+      mask);
+  mask |= upper;
+  return mask;
+}
+
+void CleanMask(const SegmentationOptions& options, cv::Mat* mask) {
+  const int r =
+      std::max(1, static_cast<int>(std::lround(options.morphology_fraction *
+                                               options.dot_radius_px)));
+  const cv::Mat disk =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
+  cv::morphologyEx(*mask, *mask, cv::MORPH_OPEN, disk);
+  cv::morphologyEx(*mask, *mask, cv::MORPH_CLOSE, disk);
+}
+
+BlobSummary FindBlobs(const cv::Mat& mask, const SegmentationOptions& options,
+                      const cv::Point& offset) {
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids,
+                                                 8, CV_32S);
+  // Second central moments of every component in one pass over the labels
+  // (about each component's centroid).
+  std::vector<double> spread(n, 0.0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* row = labels.ptr<int>(y);
+    for (int x = 0; x < labels.cols; ++x) {
+      const int i = row[x];
+      if (i == 0) continue;
+      const double dx = x - centroids.at<double>(i, 0),
+                   dy = y - centroids.at<double>(i, 1);
+      spread[i] += dx * dx + dy * dy;
+    }
+  }
+  const double expected =
+      std::numbers::pi * options.dot_radius_px * options.dot_radius_px;
+  BlobSummary summary;
+  for (int i = 1; i < n; ++i) {
+    const double area = stats.at<int>(i, cv::CC_STAT_AREA);
+    if (area < options.min_area_fraction * expected ||
+        area > options.max_area_fraction * expected) {
+      ++summary.rejected_area;
+      continue;
+    }
+    const cv::Rect box(stats.at<int>(i, cv::CC_STAT_LEFT),
+                       stats.at<int>(i, cv::CC_STAT_TOP),
+                       stats.at<int>(i, cv::CC_STAT_WIDTH),
+                       stats.at<int>(i, cv::CC_STAT_HEIGHT));
+    Blob blob;
+    blob.area_px = area;
+    // A disk's polar moment is area^2 / (2 pi); each pixel adds its own
+    // 1/6 px^2 (a unit square about its centre).
+    blob.circularity = std::min(
+        1.0, area * area / (2.0 * std::numbers::pi * (spread[i] + area / 6.0)));
+    blob.fill = area / box.area();
+    if (blob.circularity < options.min_circularity ||
+        blob.fill < options.min_fill) {
+      ++summary.rejected_shape;
+      continue;
+    }
+    blob.centroid = Eigen::Vector2d(centroids.at<double>(i, 0) + offset.x,
+                                    centroids.at<double>(i, 1) + offset.y);
+    blob.box = box + offset;
+    summary.accepted.push_back(blob);
+  }
+  return summary;
+}
+
+std::optional<Blob> SingleBlob(const cv::Mat& mask,
+                               const SegmentationOptions& options,
+                               const cv::Point& offset) {
+  const cv::Moments m = cv::moments(mask, true);
+  const double area = m.m00;
+  const double expected =
+      std::numbers::pi * options.dot_radius_px * options.dot_radius_px;
+  if (area < options.min_area_fraction * expected ||
+      area > options.max_area_fraction * expected) {
+    return std::nullopt;
+  }
+  const cv::Rect box = cv::boundingRect(mask);
+  if (box.x == 0 || box.y == 0 || box.br().x == mask.cols ||
+      box.br().y == mask.rows) {
+    return std::nullopt;
+  }
+  Blob blob;
+  blob.area_px = area;
+  // As in FindBlobs: area^2 / (2 pi polar moment), pixels' own 1/6 px^2.
+  blob.circularity = std::min(
+      1.0,
+      area * area / (2.0 * std::numbers::pi * (m.mu20 + m.mu02 + area / 6.0)));
+  blob.fill = area / box.area();
+  if (blob.circularity < options.min_circularity ||
+      blob.fill < options.min_fill) {
+    return std::nullopt;
+  }
+  blob.centroid =
+      Eigen::Vector2d(m.m10 / area + offset.x, m.m01 / area + offset.y);
+  blob.box = box + offset;
+  return blob;
+}
+
+double EstimateDotRadius(const cv::Mat& mask) {
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids,
+                                                 8, CV_32S);
+  std::vector<double> radii;
+  for (int i = 1; i < n; ++i) {
+    const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+    if (area >= 12) radii.push_back(std::sqrt(area / std::numbers::pi));
+  }
+  if (radii.empty()) return 0.0;
+  std::nth_element(radii.begin(), radii.begin() + radii.size() / 2,
+                   radii.end());
+  return radii[radii.size() / 2];
+}
+
+BlobSummary SegmentDots(const cv::Mat& bgr, const HsvRange& range,
+                        const SegmentationOptions& options,
+                        const cv::Point& offset) {
+  cv::Mat mask = ColorMask(bgr, range);
+  CleanMask(options, &mask);
+  return FindBlobs(mask, options, offset);
+}
+
+LearnedHsvRange LearnHsvRange(const cv::Mat& bgr, const cv::Mat& dot_cores,
+                              const cv::Mat& dot_regions) {
+  cv::Mat hsv;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  std::vector<double> offsets;  // hue relative to the circular mean
+  std::vector<int> saturation, value;
+  double sum_cos = 0.0, sum_sin = 0.0;
+  std::vector<cv::Vec3b> pixels;
+  for (int y = 0; y < hsv.rows; ++y) {
+    for (int x = 0; x < hsv.cols; ++x) {
+      if (dot_cores.at<uint8_t>(y, x) == 0) continue;
+      const cv::Vec3b p = hsv.at<cv::Vec3b>(y, x);
+      pixels.push_back(p);
+      const double angle = p[0] * std::numbers::pi / 90.0;  // 180 -> 2 pi
+      sum_cos += std::cos(angle) * p[1];
+      sum_sin += std::sin(angle) * p[1];
+    }
+  }
+  LearnedHsvRange learned;
+  learned.dot_pixels = static_cast<int>(pixels.size());
+  if (pixels.empty()) return learned;
+  const double mean_hue =
+      std::atan2(sum_sin, sum_cos) * 90.0 / std::numbers::pi;
+  for (const cv::Vec3b& p : pixels) {
+    double d = p[0] - mean_hue;
+    while (d > 90) d -= 180;
+    while (d < -90) d += 180;
+    offsets.push_back(d);
+    saturation.push_back(p[1]);
+    value.push_back(p[2]);
+  }
+  const auto percentile = [](auto values, double q) {
+    const size_t k = static_cast<size_t>(q * (values.size() - 1));
+    std::nth_element(values.begin(), values.begin() + k, values.end());
+    return static_cast<double>(values[k]);
+  };
+  constexpr double kHueMargin = 4.0, kLevelMargin = 0.75;
+  const double low = mean_hue + percentile(offsets, 0.01) - kHueMargin;
+  const double high = mean_hue + percentile(offsets, 0.99) + kHueMargin;
+  const auto wrap = [](double h) {
+    const int v = static_cast<int>(std::lround(h));
+    return ((v % 180) + 180) % 180;
+  };
+  HsvRange& r = learned.range;
+  if (high - low >= 179) {
+    r.hue_low = 0;
+    r.hue_high = 179;
+  } else {
+    r.hue_low = wrap(low);
+    r.hue_high = wrap(high);
+  }
+  r.saturation_low =
+      static_cast<int>(kLevelMargin * percentile(saturation, 0.01));
+  r.value_low = static_cast<int>(kLevelMargin * percentile(value, 0.01));
+  int inside = 0;
+  for (const cv::Vec3b& p : pixels) inside += r.Contains(p);
+  learned.dot_coverage = static_cast<double>(inside) / pixels.size();
+  cv::Mat in_range = ColorMask(bgr, r);
+  in_range.setTo(0, dot_regions);
+  learned.outside_pixels = cv::countNonZero(in_range);
+  return learned;
+}
+
+}  // namespace softbench

@@ -1,0 +1,55 @@
+#ifndef SOFTBENCH_VISION_FRAME_SOURCE_H_
+#define SOFTBENCH_VISION_FRAME_SOURCE_H_
+
+#include <opencv2/core.hpp>
+
+#include "vision/video_reader.h"
+
+namespace softbench {
+
+// What measuring one frame reads: its full-resolution luma, which locates
+// edges, and the colour of chosen regions, which finds and names dots. A
+// video converts only those regions; a still image has it all already.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual const cv::Mat& luma() const = 0;  // CV_8UC1
+  // BGR (CV_8UC3) of `region` clipped to the frame; empty when outside.
+  virtual cv::Mat BgrRegion(const cv::Rect& region) const = 0;
+  virtual double time_s() const = 0;
+};
+
+// A BGR image (a rendered frame, a PNG) as a frame; luma is OpenCV's
+// BT.601 grey.
+class ImageFrameSource : public FrameSource {
+ public:
+  explicit ImageFrameSource(const cv::Mat& bgr, double time_s = 0.0);
+  const cv::Mat& luma() const override { return luma_; }
+  cv::Mat BgrRegion(const cv::Rect& region) const override;
+  double time_s() const override { return time_s_; }
+
+ private:
+  cv::Mat bgr_, luma_;
+  double time_s_;
+};
+
+// The frame a VideoReader last returned (read with want_bgr = false, so
+// colour is converted region by region).
+class VideoFrameSource : public FrameSource {
+ public:
+  VideoFrameSource(VideoReader* reader, const VideoFrame* frame)
+      : reader_(reader), frame_(frame) {}
+  const cv::Mat& luma() const override { return frame_->luma; }
+  cv::Mat BgrRegion(const cv::Rect& region) const override {
+    return reader_->BgrRegion(region);
+  }
+  double time_s() const override { return frame_->time_s; }
+
+ private:
+  VideoReader* reader_;
+  const VideoFrame* frame_;
+};
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_FRAME_SOURCE_H_

@@ -1,0 +1,117 @@
+#include "vision/plane_mapping.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+namespace softbench {
+
+PlaneMapping::PlaneMapping(const Camera& camera,
+                           const Eigen::Matrix3d& plane_from_normalized)
+    : camera_(camera), plane_from_normalized_(plane_from_normalized) {}
+
+PlaneMapping PlaneMapping::FromTag(
+    const CameraIntrinsics& intrinsics,
+    const std::array<Eigen::Vector2d, 4>& corners, double tag_size_mm,
+    double plane_height_mm) {
+  const double h = tag_size_mm / 2.0;
+  // libapriltag's order in the printed tag (x right, y up): bottom-left,
+  // bottom-right, top-right, top-left; world X = +y, Y = +z, Z up.
+  const std::vector<cv::Point3d> object = {
+      {-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
+  std::vector<cv::Point2d> image;
+  for (const Eigen::Vector2d& c : corners) image.emplace_back(c.x(), c.y());
+  cv::Vec3d rvec, tvec;
+  cv::solvePnP(object, image, intrinsics.CameraMatrix(), intrinsics.distortion,
+               rvec, tvec, false, cv::SOLVEPNP_IPPE);
+  cv::Matx33d r;
+  cv::Rodrigues(rvec, r);
+  Eigen::Matrix3d camera_from_world;
+  cv::cv2eigen(r, camera_from_world);
+  const Camera camera(intrinsics, camera_from_world,
+                      Eigen::Vector3d(tvec[0], tvec[1], tvec[2]));
+  return {camera, camera.NormalizedFromPlane(plane_height_mm).inverse()};
+}
+
+PlaneMapping PlaneMapping::FromScale(const CameraIntrinsics& intrinsics,
+                                     double mm_per_px,
+                                     double image_rotation_rad) {
+  // Normalised (x right, y down) to pixels from the centre with y up, then
+  // turned by the rotation and scaled.
+  const double c = std::cos(image_rotation_rad),
+               s = std::sin(image_rotation_rad);
+  Eigen::Matrix3d m = Eigen::Matrix3d::Identity();
+  Eigen::Matrix2d rotation;
+  rotation << c, s, -s, c;  // world axes are the image's turned by +angle
+  m.topLeftCorner<2, 2>() =
+      mm_per_px * rotation *
+      Eigen::Vector2d(intrinsics.fx_px, -intrinsics.fy_px).asDiagonal();
+  const Camera camera(intrinsics, Eigen::Matrix3d::Identity(),
+                      Eigen::Vector3d::Zero());
+  return {camera, m};
+}
+
+PlaneMapping PlaneMapping::FromPoints(
+    const CameraIntrinsics& intrinsics,
+    const std::vector<Eigen::Vector2d>& pixels,
+    const std::vector<Eigen::Vector2d>& plane_mm, double* rms_mm) {
+  // Umeyama's similarity from image (centred, y up) to plane.
+  const PlaneMapping unit = FromScale(intrinsics, 1.0, 0.0);
+  Eigen::Matrix2Xd from(2, pixels.size()), to(2, plane_mm.size());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    from.col(i) = unit.ToPlane(pixels[i]);
+    to.col(i) = plane_mm[i];
+  }
+  const Eigen::Matrix3d t = Eigen::umeyama(from, to, true);
+  const double scale = std::sqrt(t.topLeftCorner<2, 2>().determinant());
+  const double angle = std::atan2(t(1, 0), t(0, 0));
+  PlaneMapping mapping = FromScale(intrinsics, scale, -angle);
+  mapping.plane_from_normalized_.block<2, 1>(0, 2) = t.block<2, 1>(0, 2);
+  double sum = 0.0;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    sum += (mapping.ToPlane(pixels[i]) - plane_mm[i]).squaredNorm();
+  }
+  *rms_mm = std::sqrt(sum / pixels.size());
+  return mapping;
+}
+
+Eigen::Vector2d PlaneMapping::ToPlane(const Eigen::Vector2d& pixel) const {
+  const Eigen::Vector3d q =
+      plane_from_normalized_ * camera_.Undistort(pixel).homogeneous();
+  return q.head<2>() / q.z();
+}
+
+std::vector<Eigen::Vector2d> PlaneMapping::ToPlane(
+    const std::vector<Eigen::Vector2d>& pixels) const {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(pixels.size());
+  if (!camera_.HasDistortion()) {
+    for (const Eigen::Vector2d& p : pixels) out.push_back(ToPlane(p));
+    return out;
+  }
+  std::vector<cv::Point2d> cv_pixels;
+  for (const Eigen::Vector2d& p : pixels) cv_pixels.emplace_back(p.x(), p.y());
+  for (const Eigen::Vector2d& n : camera_.UndistortPixels(cv_pixels)) {
+    const Eigen::Vector3d q = plane_from_normalized_ * n.homogeneous();
+    out.push_back(q.head<2>() / q.z());
+  }
+  return out;
+}
+
+double PlaneMapping::MmPerPixelAt(const Eigen::Vector2d& pixel) const {
+  const Eigen::Vector2d p = ToPlane(pixel);
+  const double dx = (ToPlane(pixel + Eigen::Vector2d(1, 0)) - p).norm();
+  const double dy = (ToPlane(pixel + Eigen::Vector2d(0, 1)) - p).norm();
+  return 0.5 * (dx + dy);
+}
+
+Eigen::Vector2d PlaneMapping::ToPixel(const Eigen::Vector2d& plane_mm) const {
+  const Eigen::Vector3d n =
+      plane_from_normalized_.inverse() * plane_mm.homogeneous();
+  return camera_.Distort(n.head<2>() / n.z());
+}
+
+}  // namespace softbench

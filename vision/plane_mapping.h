@@ -1,0 +1,68 @@
+#ifndef SOFTBENCH_VISION_PLANE_MAPPING_H_
+#define SOFTBENCH_VISION_PLANE_MAPPING_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "vision/camera.h"
+
+namespace softbench {
+
+// Image pixels to millimetres on the plane the dots move in, in the
+// mechanism's world axes (y, z). Lens distortion, when the intrinsics carry
+// it, is removed from the points (never by warping frames), then a
+// homography takes ideal image coordinates to the plane; so a tilted camera's
+// perspective is corrected exactly for points on that plane.
+class PlaneMapping {
+ public:
+  // From an AprilTag: its four outer corners (OpenCV pixels, libapriltag's
+  // order: counter-clockwise in the printed tag from bottom-left), its side
+  // [mm], and the height of the dot plane above the tag plane [mm]. The tag's
+  // printed +x is world +y and its printed up world +z; the origin is the
+  // tag's centre. The camera's pose comes from the corners (planar PnP), so
+  // the dot plane's homography follows from the tag plane's.
+  static PlaneMapping FromTag(const CameraIntrinsics& intrinsics,
+                              const std::array<Eigen::Vector2d, 4>& corners,
+                              double tag_size_mm, double plane_height_mm);
+
+  // Without a tag (thesis 4.1.3's pixel-to-mm factor): a fronto-parallel
+  // camera with `mm_per_px` at the image centre and world +y along image
+  // right turned counter-clockwise on screen by `image_rotation_rad`.
+  static PlaneMapping FromScale(const CameraIntrinsics& intrinsics,
+                                double mm_per_px, double image_rotation_rad);
+
+  // The fronto-parallel similarity (scale and rotation) that best maps
+  // `pixels` onto `plane_mm` (at least two points, e.g. two dots a known
+  // distance apart); `rms_mm` receives the fit's residual.
+  static PlaneMapping FromPoints(const CameraIntrinsics& intrinsics,
+                                 const std::vector<Eigen::Vector2d>& pixels,
+                                 const std::vector<Eigen::Vector2d>& plane_mm,
+                                 double* rms_mm);
+
+  Eigen::Vector2d ToPlane(const Eigen::Vector2d& pixel) const;
+  std::vector<Eigen::Vector2d> ToPlane(
+      const std::vector<Eigen::Vector2d>& pixels) const;
+  // Millimetres per pixel at a pixel (the mean of the two axes' local
+  // scales), for sizing dots and search regions.
+  double MmPerPixelAt(const Eigen::Vector2d& pixel) const;
+  // The plane point's pixel (inverse of ToPlane).
+  Eigen::Vector2d ToPixel(const Eigen::Vector2d& plane_mm) const;
+
+  const Eigen::Matrix3d& plane_from_normalized() const {
+    return plane_from_normalized_;
+  }
+  const CameraIntrinsics& intrinsics() const { return camera_.intrinsics(); }
+
+ private:
+  PlaneMapping(const Camera& camera,
+               const Eigen::Matrix3d& plane_from_normalized);
+
+  Camera camera_;  // only its intrinsics are used (undistortion)
+  Eigen::Matrix3d plane_from_normalized_;
+};
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_PLANE_MAPPING_H_
