@@ -87,9 +87,6 @@ class HeadTracker {
   // Measures every head in one frame.
   std::vector<HeadObservation> Measure(const FrameSource& frame);
 
-  const std::vector<HeadMarkers>& heads() const { return heads_; }
-  double dot_radius_px(int head) const { return radius_px_[head]; }
-
  private:
   // Follows each dot of `head` in a region around its last position.
   void TrackRegions(const FrameSource& frame, int head, HeadObservation* out);

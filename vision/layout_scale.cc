@@ -107,7 +107,6 @@ LayoutScale MeasureLayoutScale(const FrameSource& frame,
       result.why_not = "a dot's centre: " + c.why_not;
       return result;
     }
-    result.pixels.push_back(c.centre);
     refined.push_back(ideal.ToPlane(c.centre));
   }
   const std::vector<double> image = Distances(refined);

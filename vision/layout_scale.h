@@ -19,7 +19,6 @@ struct LayoutScale {
   // RMS misfit of the dots' distances to the layout's after scaling,
   // relative to the mean distance.
   double misfit = 0.0;
-  std::vector<Eigen::Vector2d> pixels;  // the dots used, luma-refined
 };
 
 // The scale of the dot plane without a tag (thesis 4.1.3 used a measured

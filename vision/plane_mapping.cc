@@ -2,7 +2,6 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -52,30 +51,6 @@ PlaneMapping PlaneMapping::FromScale(const CameraIntrinsics& intrinsics,
   const Camera camera(intrinsics, Eigen::Matrix3d::Identity(),
                       Eigen::Vector3d::Zero());
   return {camera, m};
-}
-
-PlaneMapping PlaneMapping::FromPoints(
-    const CameraIntrinsics& intrinsics,
-    const std::vector<Eigen::Vector2d>& pixels,
-    const std::vector<Eigen::Vector2d>& plane_mm, double* rms_mm) {
-  // Umeyama's similarity from image (centred, y up) to plane.
-  const PlaneMapping unit = FromScale(intrinsics, 1.0, 0.0);
-  Eigen::Matrix2Xd from(2, pixels.size()), to(2, plane_mm.size());
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    from.col(i) = unit.ToPlane(pixels[i]);
-    to.col(i) = plane_mm[i];
-  }
-  const Eigen::Matrix3d t = Eigen::umeyama(from, to, true);
-  const double scale = std::sqrt(t.topLeftCorner<2, 2>().determinant());
-  const double angle = std::atan2(t(1, 0), t(0, 0));
-  PlaneMapping mapping = FromScale(intrinsics, scale, -angle);
-  mapping.plane_from_normalized_.block<2, 1>(0, 2) = t.block<2, 1>(0, 2);
-  double sum = 0.0;
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    sum += (mapping.ToPlane(pixels[i]) - plane_mm[i]).squaredNorm();
-  }
-  *rms_mm = std::sqrt(sum / pixels.size());
-  return mapping;
 }
 
 Eigen::Vector2d PlaneMapping::ToPlane(const Eigen::Vector2d& pixel) const {

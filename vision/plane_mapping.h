@@ -33,14 +33,6 @@ class PlaneMapping {
   static PlaneMapping FromScale(const CameraIntrinsics& intrinsics,
                                 double mm_per_px, double image_rotation_rad);
 
-  // The fronto-parallel similarity (scale and rotation) that best maps
-  // `pixels` onto `plane_mm` (at least two points, e.g. two dots a known
-  // distance apart); `rms_mm` receives the fit's residual.
-  static PlaneMapping FromPoints(const CameraIntrinsics& intrinsics,
-                                 const std::vector<Eigen::Vector2d>& pixels,
-                                 const std::vector<Eigen::Vector2d>& plane_mm,
-                                 double* rms_mm);
-
   Eigen::Vector2d ToPlane(const Eigen::Vector2d& pixel) const;
   std::vector<Eigen::Vector2d> ToPlane(
       const std::vector<Eigen::Vector2d>& pixels) const;
@@ -50,9 +42,6 @@ class PlaneMapping {
   // The plane point's pixel (inverse of ToPlane).
   Eigen::Vector2d ToPixel(const Eigen::Vector2d& plane_mm) const;
 
-  const Eigen::Matrix3d& plane_from_normalized() const {
-    return plane_from_normalized_;
-  }
   const CameraIntrinsics& intrinsics() const { return camera_.intrinsics(); }
 
  private:
