@@ -65,11 +65,7 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
     c.image_rotation_deg = reader.Number(rotation, "image_rotation_deg");
   }
   if (const YAML::Node dots = node["scale_from_dots"]) {
-    if (!dots.IsScalar() ||
-        (dots.Scalar() != "true" && dots.Scalar() != "false")) {
-      reader.Fail(dots, "scale_from_dots", "must be true or false");
-    }
-    c.scale_from_dots = dots.Scalar() == "true";
+    c.scale_from_dots = reader.Bool(dots, "scale_from_dots");
   }
   if (const YAML::Node tolerance = node["distortion_tolerance"]) {
     c.distortion_tolerance =
@@ -169,9 +165,9 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
           reader.Fail(hsv, "hsv", "must be whole numbers");
         bounds[i] = static_cast<int>(v);
       }
-      const HsvRange range{bounds[0], bounds[1], bounds[2],
-                           bounds[3], bounds[4], bounds[5]};
-      if (auto problem = range.Check()) reader.Fail(hsv, "hsv", *problem);
+      if (auto problem = HsvRange::FromBounds(bounds).Check()) {
+        reader.Fail(hsv, "hsv", *problem);
+      }
       marker.hsv = bounds;
     }
     if (const YAML::Node layout = entry["layout_mm"]) {

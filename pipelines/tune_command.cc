@@ -59,9 +59,9 @@ int RunTune(const TuneCommandOptions& options, std::ostream& out) {
     if (b.size() != 6) {
       throw InputError("--hsv: give six numbers h_lo,h_hi,s_lo,s_hi,v_lo,v_hi");
     }
-    range = HsvRange{static_cast<int>(b[0]), static_cast<int>(b[1]),
-                     static_cast<int>(b[2]), static_cast<int>(b[3]),
-                     static_cast<int>(b[4]), static_cast<int>(b[5])};
+    std::array<int, 6> bounds{};
+    for (size_t i = 0; i < 6; ++i) bounds[i] = static_cast<int>(b[i]);
+    range = HsvRange::FromBounds(bounds);
     if (auto problem = range->Check()) throw InputError("--hsv: " + *problem);
   }
   if (options.dot_radius_px < 0.0) {

@@ -11,6 +11,7 @@
 #include "calibration/camera_calibration.h"
 #include "util/input_error.h"
 #include "util/progress.h"
+#include "util/statistics.h"
 #include "vision/frame_source.h"
 #include "vision/layout_scale.h"
 #include "vision/tag_detector.h"
@@ -27,17 +28,6 @@ std::optional<std::string> VideoMeasurementOptions::Check() const {
 namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-// The q-quantile (0..1) of `values` (nearest rank).
-double Quantile(std::vector<double> values, double q) {
-  const size_t k = static_cast<size_t>(q * (values.size() - 1) + 0.5);
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
-
-double Median(std::vector<double> values) {
-  return Quantile(std::move(values), 0.5);
-}
 
 // The tag's corners over the first frames, combined by a per-coordinate
 // median (robust to one bad detection); throws when the plan's tag is absent.
@@ -86,15 +76,10 @@ PlaneMapping MappingFromTag(const TestPlan& plan, const std::string& path,
 }
 
 double MeanPairDistance(const std::vector<Eigen::Vector2d>& points) {
+  const std::vector<double> d = PairDistances(points);
   double sum = 0.0;
-  int pairs = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    for (size_t j = i + 1; j < points.size(); ++j) {
-      sum += (points[i] - points[j]).norm();
-      ++pairs;
-    }
-  }
-  return pairs > 0 ? sum / pairs : 0.0;
+  for (double v : d) sum += v;
+  return d.empty() ? 0.0 : sum / d.size();
 }
 
 }  // namespace
@@ -172,8 +157,7 @@ std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan) {
     h.name = plan.mechanism.heads[m.head].name;
     h.color_name = m.color;
     if (m.hsv) {
-      const auto& b = *m.hsv;
-      h.color = HsvRange{b[0], b[1], b[2], b[3], b[4], b[5]};
+      h.color = HsvRange::FromBounds(*m.hsv);
     } else {
       h.color = *BuiltinHsvRange(m.color);
     }

@@ -77,6 +77,14 @@ std::string YamlReader::String(const YAML::Node& node,
   return node.Scalar();
 }
 
+bool YamlReader::Bool(const YAML::Node& node, std::string_view field) const {
+  bool value = false;
+  if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value)) {
+    Fail(node, field, "must be true or false");
+  }
+  return value;
+}
+
 std::array<double, 2> YamlReader::Pair(const YAML::Node& node,
                                        std::string_view field) const {
   if (!node.IsSequence() || node.size() != 2) {

@@ -34,6 +34,8 @@ class YamlReader {
 
   double Number(const YAML::Node& node, std::string_view field) const;
   std::string String(const YAML::Node& node, std::string_view field) const;
+  // true or false (YAML's spellings).
+  bool Bool(const YAML::Node& node, std::string_view field) const;
   // A [y, z] pair of numbers.
   std::array<double, 2> Pair(const YAML::Node& node,
                              std::string_view field) const;

@@ -7,7 +7,13 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
+#include "util/statistics.h"
+
 namespace softbench {
+
+HsvRange HsvRange::FromBounds(const std::array<int, 6>& b) {
+  return {b[0], b[1], b[2], b[3], b[4], b[5]};
+}
 
 bool HsvRange::Contains(const cv::Vec3b& hsv) const {
   const bool hue = Wraps() ? (hsv[0] >= hue_low || hsv[0] <= hue_high)
@@ -196,10 +202,7 @@ double EstimateDotRadius(const cv::Mat& mask) {
     const int area = stats.at<int>(i, cv::CC_STAT_AREA);
     if (area >= 12) radii.push_back(std::sqrt(area / std::numbers::pi));
   }
-  if (radii.empty()) return 0.0;
-  std::nth_element(radii.begin(), radii.begin() + radii.size() / 2,
-                   radii.end());
-  return radii[radii.size() / 2];
+  return radii.empty() ? 0.0 : Median(radii);
 }
 
 BlobSummary SegmentDots(const cv::Mat& bgr, const HsvRange& range,
@@ -241,14 +244,9 @@ LearnedHsvRange LearnHsvRange(const cv::Mat& bgr, const cv::Mat& dot_cores,
     saturation.push_back(p[1]);
     value.push_back(p[2]);
   }
-  const auto percentile = [](auto values, double q) {
-    const size_t k = static_cast<size_t>(q * (values.size() - 1));
-    std::nth_element(values.begin(), values.begin() + k, values.end());
-    return static_cast<double>(values[k]);
-  };
   constexpr double kHueMargin = 4.0, kLevelMargin = 0.75;
-  const double low = mean_hue + percentile(offsets, 0.01) - kHueMargin;
-  const double high = mean_hue + percentile(offsets, 0.99) + kHueMargin;
+  const double low = mean_hue + Quantile(offsets, 0.01) - kHueMargin;
+  const double high = mean_hue + Quantile(offsets, 0.99) + kHueMargin;
   const auto wrap = [](double h) {
     const int v = static_cast<int>(std::lround(h));
     return ((v % 180) + 180) % 180;
@@ -262,8 +260,8 @@ LearnedHsvRange LearnHsvRange(const cv::Mat& bgr, const cv::Mat& dot_cores,
     r.hue_high = wrap(high);
   }
   r.saturation_low =
-      static_cast<int>(kLevelMargin * percentile(saturation, 0.01));
-  r.value_low = static_cast<int>(kLevelMargin * percentile(value, 0.01));
+      static_cast<int>(kLevelMargin * Quantile(saturation, 0.01));
+  r.value_low = static_cast<int>(kLevelMargin * Quantile(value, 0.01));
   int inside = 0;
   for (const cv::Vec3b& p : pixels) inside += r.Contains(p);
   learned.dot_coverage = static_cast<double>(inside) / pixels.size();

@@ -2,6 +2,7 @@
 #define SOFTBENCH_VISION_COLOR_SEGMENTATION_H_
 
 #include <Eigen/Core>
+#include <array>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -16,6 +17,10 @@ struct HsvRange {
   int hue_low = 0, hue_high = 179;
   int saturation_low = 0, saturation_high = 255;
   int value_low = 0, value_high = 255;
+
+  // From [h_low, h_high, s_low, s_high, v_low, v_high], the order plans
+  // and `softbench tune` use.
+  static HsvRange FromBounds(const std::array<int, 6>& bounds);
 
   bool Wraps() const { return hue_low > hue_high; }
   bool Contains(const cv::Vec3b& hsv) const;

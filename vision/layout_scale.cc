@@ -12,18 +12,6 @@
 namespace softbench {
 namespace {
 
-// Pairwise distances, sorted.
-std::vector<double> Distances(const std::vector<Eigen::Vector2d>& points) {
-  std::vector<double> d;
-  for (size_t i = 0; i < points.size(); ++i) {
-    for (size_t j = i + 1; j < points.size(); ++j) {
-      d.push_back((points[i] - points[j]).norm());
-    }
-  }
-  std::sort(d.begin(), d.end());
-  return d;
-}
-
 double Sum(const std::vector<double>& values) {
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -43,6 +31,17 @@ double Misfit(const std::vector<double>& layout,
 }
 
 }  // namespace
+
+std::vector<double> PairDistances(const std::vector<Eigen::Vector2d>& points) {
+  std::vector<double> d;
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t j = i + 1; j < points.size(); ++j) {
+      d.push_back((points[i] - points[j]).norm());
+    }
+  }
+  std::sort(d.begin(), d.end());
+  return d;
+}
 
 LayoutScale MeasureLayoutScale(const FrameSource& frame,
                                const HeadMarkers& head,
@@ -79,7 +78,7 @@ LayoutScale MeasureLayoutScale(const FrameSource& frame,
   }
   // Image coordinates in pixels with the distortion removed.
   const PlaneMapping ideal = PlaneMapping::FromScale(intrinsics, 1.0, 0.0);
-  const std::vector<double> layout = Distances(head.layout_mm);
+  const std::vector<double> layout = PairDistances(head.layout_mm);
   double best = std::numeric_limits<double>::infinity();
   std::vector<int> chosen;
   std::vector<bool> select(n, false);
@@ -92,7 +91,7 @@ LayoutScale MeasureLayoutScale(const FrameSource& frame,
       subset.push_back(i);
       points.push_back(ideal.ToPlane(blobs[i].centroid));
     }
-    const double misfit = Misfit(layout, Distances(points));
+    const double misfit = Misfit(layout, PairDistances(points));
     if (misfit < best) {
       best = misfit;
       chosen = subset;
@@ -109,7 +108,7 @@ LayoutScale MeasureLayoutScale(const FrameSource& frame,
     }
     refined.push_back(ideal.ToPlane(c.centre));
   }
-  const std::vector<double> image = Distances(refined);
+  const std::vector<double> image = PairDistances(refined);
   result.misfit = Misfit(layout, image);
   if (result.misfit > 0.05) {
     result.why_not = fmt::format(

@@ -21,6 +21,9 @@ struct LayoutScale {
   double misfit = 0.0;
 };
 
+// Every pairwise distance between `points`, sorted ascending.
+std::vector<double> PairDistances(const std::vector<Eigen::Vector2d>& points);
+
 // The scale of the dot plane without a tag (thesis 4.1.3 used a measured
 // pixel-to-mm factor): a head's dots a known distance apart (its plan
 // layout) in one frame. The dot size is estimated from the colour mask, the

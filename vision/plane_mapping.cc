@@ -10,7 +10,9 @@ namespace softbench {
 
 PlaneMapping::PlaneMapping(const Camera& camera,
                            const Eigen::Matrix3d& plane_from_normalized)
-    : camera_(camera), plane_from_normalized_(plane_from_normalized) {}
+    : camera_(camera),
+      plane_from_normalized_(plane_from_normalized),
+      normalized_from_plane_(plane_from_normalized.inverse()) {}
 
 PlaneMapping PlaneMapping::FromTag(
     const CameraIntrinsics& intrinsics,
@@ -84,8 +86,7 @@ double PlaneMapping::MmPerPixelAt(const Eigen::Vector2d& pixel) const {
 }
 
 Eigen::Vector2d PlaneMapping::ToPixel(const Eigen::Vector2d& plane_mm) const {
-  const Eigen::Vector3d n =
-      plane_from_normalized_.inverse() * plane_mm.homogeneous();
+  const Eigen::Vector3d n = normalized_from_plane_ * plane_mm.homogeneous();
   return camera_.Distort(n.head<2>() / n.z());
 }
 

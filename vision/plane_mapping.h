@@ -50,6 +50,7 @@ class PlaneMapping {
 
   Camera camera_;  // only its intrinsics are used (undistortion)
   Eigen::Matrix3d plane_from_normalized_;
+  Eigen::Matrix3d normalized_from_plane_;  // its inverse, for ToPixel
 };
 
 }  // namespace softbench
