@@ -1,5 +1,7 @@
 #include "calibration/constants_file.h"
 
+#include <fmt/format.h>
+
 #include "util/input_error.h"
 #include "util/text_file.h"
 #include "util/yaml_reader.h"
@@ -44,6 +46,23 @@ ConstantsFile ParseConstantsYaml(std::string_view yaml,
 
 ConstantsFile LoadConstantsFile(const std::string& path) {
   return ParseConstantsYaml(ReadTextFile(path, "constants file"), path);
+}
+
+std::string ConstantsYaml(const ConstantsFile& file, std::string_view comment) {
+  const ActuatorConstants& c = file.constants;
+  std::string out(comment);
+  // 17 significant digits: the file reads back to the same doubles.
+  out += fmt::format("axial_area_mm2: {:.17g}  # A_z\n", c.axial_area_mm2);
+  out += fmt::format("shear_area_factor_mm2_per_rad: {:.17g}  # W_y\n",
+                     c.shear_area_factor_mm2_per_rad);
+  out += fmt::format("linear_stiffness_n_per_mm: {:.17g}  # k_s\n",
+                     c.linear_stiffness_n_per_mm);
+  out += fmt::format("torsional_factor_n_per_rad: {:.17g}  # k_theta\n",
+                     c.torsional_factor_n_per_rad);
+  out += fmt::format("natural_length_mm: {:.17g}  # L0 (not fitted)\n",
+                     c.natural_length_mm);
+  if (file.variant) out += fmt::format("variant: {}\n", *file.variant);
+  return out;
 }
 
 }  // namespace softbench

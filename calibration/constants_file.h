@@ -23,6 +23,10 @@ ConstantsFile ParseConstantsYaml(std::string_view yaml,
                                  const std::string& source);
 ConstantsFile LoadConstantsFile(const std::string& path);
 
+// The YAML text of a constants file (what ParseConstantsYaml reads), with
+// `comment` (lines starting with '#') on top.
+std::string ConstantsYaml(const ConstantsFile& file, std::string_view comment);
+
 }  // namespace softbench
 
 #endif  // SOFTBENCH_CALIBRATION_CONSTANTS_FILE_H_

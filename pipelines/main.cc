@@ -7,9 +7,11 @@
 #include <iostream>
 
 #include "pipelines/calibrate_camera_command.h"
+#include "pipelines/fit_command.h"
 #include "pipelines/inverse_command.h"
 #include "pipelines/predict_command.h"
 #include "pipelines/render_command.h"
+#include "pipelines/synth_forces_command.h"
 #include "pipelines/track_command.h"
 #include "pipelines/tune_command.h"
 #include "pipelines/workspace_command.h"
@@ -47,6 +49,10 @@ int main(int argc, char** argv) {
   softbench::AddTuneCommand(&app, &tune);
   softbench::CalibrateCameraCommandOptions calibrate_camera;
   softbench::AddCalibrateCameraCommand(&app, &calibrate_camera);
+  softbench::FitCommandOptions fit;
+  softbench::AddFitCommand(&app, &fit);
+  softbench::SynthForcesCommandOptions synth_forces;
+  softbench::AddSynthForcesCommand(&app, &synth_forces);
 
   try {
     app.parse(argc, argv);
@@ -82,6 +88,14 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("calibrate-camera")) {
       calibrate_camera.quiet = quiet;
       return softbench::RunCalibrateCamera(calibrate_camera, std::cout);
+    }
+    if (app.got_subcommand("fit")) {
+      fit.quiet = quiet;
+      return softbench::RunFit(fit, std::cout);
+    }
+    if (app.got_subcommand("synth-forces")) {
+      synth_forces.quiet = quiet;
+      return softbench::RunSynthForces(synth_forces, std::cout);
     }
   } catch (const softbench::InputError& e) {
     spdlog::error("{}", e.what());

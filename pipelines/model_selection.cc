@@ -45,17 +45,17 @@ ResolvedModel ResolveModel(const ModelSelection& selection) {
   resolved.pressure_unit = selection.pressure_unit;
   resolved.mechanism = LoadMechanism(selection.mechanism);
 
-  ConstantsFile constants;
-  if (!selection.constants_path.empty()) {
-    constants = LoadConstantsFile(selection.constants_path);
-  }
   if (selection.model == "pressurized-spring") {
     if (!selection.variant.empty()) {
       throw InputError(
           "--variant: applies to the axial-shear model only; the "
           "pressurized-spring baseline has no variants");
     }
-    resolved.force_model = ForceModel::PressurizedSpring(constants.constants);
+    const ActuatorConstants constants =
+        selection.constants_path.empty()
+            ? ActuatorConstants()
+            : LoadConstantsFile(selection.constants_path).constants;
+    resolved.force_model = ForceModel::PressurizedSpring(constants);
     resolved.model_name = "pressurized-spring";
     return resolved;
   }
@@ -63,19 +63,30 @@ ResolvedModel ResolveModel(const ModelSelection& selection) {
     throw InputError("--model: '" + selection.model +
                      "' is not a model; use axial-shear or pressurized-spring");
   }
-  const std::string variant = !selection.variant.empty() ? selection.variant
-                              : constants.variant        ? *constants.variant
-                                                         : "small-angle";
+  std::string variant;
+  resolved.force_model = ResolveAxialShearModel(selection.constants_path,
+                                                selection.variant, &variant);
+  resolved.model_name = "axial-shear (" + variant + ")";
+  return resolved;
+}
+
+ForceModel ResolveAxialShearModel(const std::string& constants_path,
+                                  const std::string& variant,
+                                  std::string* variant_used) {
+  ConstantsFile constants;
+  if (!constants_path.empty()) constants = LoadConstantsFile(constants_path);
+  const std::string name = !variant.empty()    ? variant
+                           : constants.variant ? *constants.variant
+                                               : "small-angle";
   const std::optional<ForceModel> model =
-      ForceModelFromVariantName(variant, constants.constants);
+      ForceModelFromVariantName(name, constants.constants);
   if (!model) {
-    throw InputError("--variant: '" + variant +
+    throw InputError("--variant: '" + name +
                      "' is not a variant; use small-angle, full-trig or "
                      "variable-arm");
   }
-  resolved.force_model = *model;
-  resolved.model_name = "axial-shear (" + variant + ")";
-  return resolved;
+  if (variant_used != nullptr) *variant_used = name;
+  return *model;
 }
 
 std::vector<double> ParseNumberList(const std::string& text,

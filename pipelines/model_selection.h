@@ -36,6 +36,13 @@ void AddModelSelectionOptions(CLI::App* command, ModelSelection* selection);
 // Loads the mechanism and constants; throws InputError on any bad choice.
 ResolvedModel ResolveModel(const ModelSelection& selection);
 
+// The axial-shear model of `variant` (empty: the constants file's, else
+// small-angle) with the constants of `constants_path` (empty: the thesis's);
+// throws InputError. `variant_used` (optional) receives the variant's name.
+ForceModel ResolveAxialShearModel(const std::string& constants_path,
+                                  const std::string& variant,
+                                  std::string* variant_used);
+
 // MPa per unit for "psi", "kpa" or "mpa"; throws InputError otherwise.
 double MpaPerPressureUnit(const std::string& unit);
 

@@ -11,11 +11,30 @@ packages=(
   libfmt-dev libspdlog-dev libfast-float-dev
   libopencv-dev libapriltag-dev
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libbenchmark-dev nlohmann-json3-dev
 )
+# Node.js and npm install the report's plotting libraries (report/); any
+# Node.js >= 18 will do, so an existing one (e.g. NodeSource's) is kept.
+if ! command -v npm >/dev/null 2>&1; then packages+=(nodejs npm); fi
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(python3 python3-numpy python3-scipy python3-opencv hyperfine ffmpeg)
+  packages+=(python3 python3-numpy python3-scipy python3-pandas python3-yaml
+    python3-opencv hyperfine ffmpeg)
 fi
+
+# The report assets: Vega, Vega-Lite and vega-embed at the versions of
+# report/package-lock.json, inlined into every HTML report (never fetched at
+# build or run time). Installed once; again only when the lock file changes.
+install_report_assets() {
+  local report
+  report="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/report"
+  if ! cmp -s "$report/package-lock.json" \
+      "$report/node_modules/.softbench-installed-lock" 2>/dev/null; then
+    echo "bootstrap: installing report assets with npm" >&2
+    (cd "$report" && npm ci --no-audit --no-fund --loglevel=error >&2)
+    cp "$report/package-lock.json" \
+      "$report/node_modules/.softbench-installed-lock"
+  fi
+}
 
 missing=()
 for package in "${packages[@]}"; do
@@ -23,6 +42,7 @@ for package in "${packages[@]}"; do
   [[ "$status" == "install ok installed" ]] || missing+=("$package")
 done
 if [[ ${#missing[@]} -eq 0 ]]; then
+  install_report_assets
   exit 0
 fi
 
@@ -32,3 +52,4 @@ echo "bootstrap: installing ${missing[*]}" >&2
 "${sudo[@]}" apt-get update -qq
 DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq \
   --no-install-recommends "${missing[@]}" >&2
+install_report_assets

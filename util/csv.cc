@@ -2,6 +2,9 @@
 
 #include <fast_float/fast_float.h>
 
+#include <algorithm>
+#include <cstring>
+
 #include "util/input_error.h"
 
 namespace softbench {
@@ -41,8 +44,11 @@ void SplitCsvLine(std::string_view line,
   }
 }
 
-CsvReader::CsvReader(const std::string& path) : path_(path), stream_(path) {
-  if (!stream_) {
+CsvReader::CsvReader(const std::string& path)
+    : path_(path),
+      file_(std::fopen(path.c_str(), "rb"), &std::fclose),
+      buffer_(size_t{1} << 20) {
+  if (!file_) {
     throw InputError(path + ": cannot open the file; check the path");
   }
   if (!NextContentLine()) {
@@ -60,17 +66,49 @@ int CsvReader::ColumnIndex(std::string_view name) const {
   return -1;
 }
 
+bool CsvReader::Refill() {
+  if (at_eof_) return false;
+  // Keep the unconsumed tail (a partial line); grow when it fills the buffer.
+  std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
+  end_ -= begin_;
+  begin_ = 0;
+  if (end_ == buffer_.size()) buffer_.resize(2 * buffer_.size());
+  const size_t got =
+      std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_.get());
+  if (got == 0) {
+    if (std::ferror(file_.get())) {
+      throw InputError(path_ + ":" + std::to_string(line_number_ + 1) +
+                       ": read error");
+    }
+    at_eof_ = true;
+    return false;
+  }
+  end_ += got;
+  return true;
+}
+
 bool CsvReader::NextContentLine() {
-  while (std::getline(stream_, line_)) {
+  for (;;) {
+    const char* begin = buffer_.data() + begin_;
+    const void* newline = std::memchr(begin, '\n', end_ - begin_);
+    size_t length = 0;
+    if (newline != nullptr) {
+      length = static_cast<const char*>(newline) - begin;
+    } else if (Refill()) {
+      continue;
+    } else if (begin_ < end_) {
+      length = end_ - begin_;  // last line without a line end
+    } else {
+      return false;
+    }
+    const size_t consumed = std::min(length + 1, end_ - begin_);
+    line_ = std::string_view(buffer_.data() + begin_, length);
+    begin_ += consumed;
+    bytes_read_ += static_cast<int64_t>(consumed);
     ++line_number_;
     const std::string_view content = Trim(line_);
     if (!content.empty() && content.front() != '#') return true;
   }
-  if (stream_.bad()) {
-    throw InputError(path_ + ":" + std::to_string(line_number_) +
-                     ": read error");
-  }
-  return false;
 }
 
 bool CsvReader::ReadRow(std::vector<std::string_view>* fields) {

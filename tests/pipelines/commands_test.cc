@@ -11,6 +11,7 @@
 #include "pipelines/predict_command.h"
 #include "pipelines/workspace_command.h"
 #include "tests/model/thesis_mechanisms.h"
+#include "tests/pipelines/scratch_directory.h"
 #include "util/csv.h"
 #include "util/input_error.h"
 
@@ -19,30 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class CommandsTest : public ::testing::Test {
+class CommandsTest : public ScratchDirectoryTest {
  protected:
-  void SetUp() override {
-    dir_ =
-        fs::temp_directory_path() /
-        ("softbench_commands_" +
-         std::string(
-             ::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
-  std::string Write(const std::string& name, const std::string& text) const {
-    std::ofstream(Path(name)) << text;
-    return Path(name);
-  }
-  static std::string Read(const std::string& path) {
-    std::ifstream stream(path);
-    std::stringstream text;
-    text << stream.rdbuf();
-    return text.str();
-  }
   // Runs predict on `csv` and returns the InputError message ("" if none).
   std::string PredictError(const std::string& csv) const {
     PredictOptions options;
@@ -57,8 +36,6 @@ class CommandsTest : public ::testing::Test {
     }
     return "";
   }
-
-  fs::path dir_;
 };
 
 TEST_F(CommandsTest, PredictWritesTheContractColumnsInInputOrder) {

@@ -1,0 +1,376 @@
+#include "calibration/force_fit.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "calibration/ceres_force_fit.h"
+
+namespace softbench {
+namespace {
+
+// Why a constant may be impossible to fit from a set of tests.
+constexpr std::array<const char*, kNumFitConstants> kIdentifiabilityHint = {
+    "no rows above zero pressure",
+    "too few pressurized rows at theta != 0 (add tests at an angle)",
+    "too few tests at dL != 0 (add extended or compressed tests)",
+    "too few tests at theta != 0 (add tests at an angle)"};
+
+struct NormalEquations {
+  Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
+  // Unweighted normal matrix of each direction, for standard errors.
+  std::array<Eigen::Matrix4d, 2> direction_normal = {Eigen::Matrix4d::Zero(),
+                                                     Eigen::Matrix4d::Zero()};
+};
+
+// Accumulates the normal equations from each test's centred moments:
+// sum over rows of a a^T with a = P u + v is C_PP u u^T + n m m^T, m = P̄ u +
+// v (and likewise for a F), so no raw sums of squares are ever subtracted.
+NormalEquations AccumulateNormalEquations(const ForceModel& model,
+                                          const std::vector<ForceTest>& tests,
+                                          const ForceFitOptions& options) {
+  NormalEquations equations;
+  const std::array<double, 2> weights = {options.axial_weight,
+                                         options.shear_weight};
+  for (const ForceTest& test : tests) {
+    const TestDesign design =
+        DesignOfTest(model, test.delta_length_mm(), test.theta_rad());
+    const ForceMoments m = test.statistics.All();
+    if (m.count == 0) continue;
+    const double n = static_cast<double>(m.count);
+    for (int d = 0; d < 2; ++d) {
+      const Eigen::Vector4d u = design.u.row(d).transpose();
+      const Eigen::Vector4d mean_a =
+          m.mean[0] * u + design.v.row(d).transpose();
+      const Eigen::Matrix4d block = m.comoment(0, 0) * u * u.transpose() +
+                                    n * mean_a * mean_a.transpose();
+      const double w2 = weights[d] * weights[d];
+      equations.direction_normal[d] += block;
+      equations.normal += w2 * block;
+      equations.rhs +=
+          w2 * (m.comoment(0, 1 + d) * u + n * m.mean[1 + d] * mean_a);
+    }
+  }
+  return equations;
+}
+
+std::vector<int> FreeIndices(const FitModel& fit_model) {
+  std::vector<int> indices;
+  for (int i = 0; i < kNumFitConstants; ++i) {
+    if (fit_model.free[i]) indices.push_back(i);
+  }
+  return indices;
+}
+
+Eigen::MatrixXd Restrict(const Eigen::Matrix4d& matrix,
+                         const std::vector<int>& indices) {
+  const int k = static_cast<int>(indices.size());
+  Eigen::MatrixXd out(k, k);
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) out(i, j) = matrix(indices[i], indices[j]);
+  }
+  return out;
+}
+
+// Lower bounds of the free constants: A_z, W_y, k_theta >= 0; k_s > 0 is
+// kept as >= 0 (a fit that reaches 0 is reported at its bound).
+Eigen::VectorXd LowerBounds(const std::vector<int>& free,
+                            const ForceFitOptions& options) {
+  return Eigen::VectorXd::Constant(static_cast<int>(free.size()),
+                                   options.non_negative ? 0.0 : -INFINITY);
+}
+
+}  // namespace
+
+Eigen::Vector4d ConstantsVector(const ActuatorConstants& constants) {
+  return {constants.axial_area_mm2, constants.shear_area_factor_mm2_per_rad,
+          constants.linear_stiffness_n_per_mm,
+          constants.torsional_factor_n_per_rad};
+}
+
+ActuatorConstants ConstantsFromVector(const Eigen::Vector4d& values,
+                                      const ActuatorConstants& base) {
+  ActuatorConstants constants = base;
+  constants.axial_area_mm2 = values[0];
+  constants.shear_area_factor_mm2_per_rad = values[1];
+  constants.linear_stiffness_n_per_mm = values[2];
+  constants.torsional_factor_n_per_rad = values[3];
+  return constants;
+}
+
+std::vector<FitModel> FitModel::ThesisModels(const ActuatorConstants& base) {
+  FitModel spring{"pressurized-spring",
+                  ForceModel::PressurizedSpring(base),
+                  {true, false, true, false}};
+  return {{"small-angle", ForceModel::SmallAngle(base)},
+          {"full-trig", ForceModel::FullTrigonometric(base)},
+          {"variable-arm", ForceModel::VariableMomentArm(base)},
+          spring};
+}
+
+int FitModel::NumFree() const {
+  int count = 0;
+  for (bool is_free : free) count += is_free ? 1 : 0;
+  return count;
+}
+
+std::optional<std::string> ForceFitOptions::Check() const {
+  if (!(axial_weight >= 0.0) || !(shear_weight >= 0.0) ||
+      !std::isfinite(axial_weight) || !std::isfinite(shear_weight) ||
+      axial_weight + shear_weight == 0.0) {
+    return "axial and shear weights must be finite, >= 0 and not both 0";
+  }
+  if (!(loss_scale_n > 0.0) || !std::isfinite(loss_scale_n)) {
+    return "loss scale must be a finite number > 0 N";
+  }
+  if (!(max_condition_number > 1.0)) return "max_condition_number must be > 1";
+  if (!(max_relative_standard_error > 0.0)) {
+    return "max_relative_standard_error must be > 0";
+  }
+  return std::nullopt;
+}
+
+TestDesign DesignOfTest(const ForceModel& model, double delta_length_mm,
+                        double theta_rad) {
+  // Every variant is linear in (A_z, W_y, k_s, k_theta): evaluating the model
+  // with one constant at 1 and the others at 0 gives that constant's column.
+  TestDesign design;
+  const Deformation deformation{delta_length_mm, theta_rad};
+  for (int i = 0; i < kNumFitConstants; ++i) {
+    ForceModel unit = model;
+    unit.constants =
+        ConstantsFromVector(Eigen::Vector4d::Unit(i), model.constants);
+    // force_in_local_n is (F_y, F_z): shear first.
+    const Eigen::Vector2d at_zero =
+        EvaluateActuatorForce(unit, 0.0, deformation).force_in_local_n;
+    const Eigen::Vector2d at_one =
+        EvaluateActuatorForce(unit, 1.0, deformation).force_in_local_n;
+    design.v.col(i) << at_zero[1], at_zero[0];
+    design.u.col(i) << at_one[1] - at_zero[1], at_one[0] - at_zero[0];
+  }
+  return design;
+}
+
+void EvaluateFit(const ForceModel& model, const std::vector<ForceTest>& tests,
+                 ForceFitSummary* summary) {
+  const Eigen::Vector4d c = ConstantsVector(model.constants);
+  std::array<double, 2> residual_sum = {0.0, 0.0};
+  std::array<double, 2> min_force = {INFINITY, INFINITY};
+  std::array<double, 2> max_force = {-INFINITY, -INFINITY};
+  ForceMoments all;
+  summary->test_rmse_n.clear();
+  for (const ForceTest& test : tests) {
+    const TestDesign design =
+        DesignOfTest(model, test.delta_length_mm(), test.theta_rad());
+    const ForceMoments m = test.statistics.All();
+    all.Merge(m);
+    std::array<double, 2> test_rmse = {0.0, 0.0};
+    for (int d = 0; d < 2; ++d) {
+      // Residual r = F - alpha P - beta is affine in (P, F): its sum of
+      // squares follows from the centred moments exactly.
+      const double alpha = design.u.row(d).dot(c);
+      const double beta = design.v.row(d).dot(c);
+      const double mean_r = m.mean[1 + d] - alpha * m.mean[0] - beta;
+      const double ss = std::max(0.0, m.comoment(1 + d, 1 + d) -
+                                          2.0 * alpha * m.comoment(0, 1 + d) +
+                                          alpha * alpha * m.comoment(0, 0)) +
+                        static_cast<double>(m.count) * mean_r * mean_r;
+      residual_sum[d] += ss;
+      test_rmse[d] = m.count > 0 ? std::sqrt(ss / m.count) : NAN;
+    }
+    summary->test_rmse_n.push_back(test_rmse);
+    min_force[kAxial] =
+        std::min(min_force[kAxial], test.statistics.min_axial_n);
+    max_force[kAxial] =
+        std::max(max_force[kAxial], test.statistics.max_axial_n);
+    min_force[kShear] =
+        std::min(min_force[kShear], test.statistics.min_shear_n);
+    max_force[kShear] =
+        std::max(max_force[kShear], test.statistics.max_shear_n);
+  }
+  summary->rows = all.count;
+  for (int d = 0; d < 2; ++d) {
+    DirectionFit& fit = summary->directions[d];
+    const double total = all.comoment(1 + d, 1 + d);
+    fit.r_squared = total > 0.0 ? 1.0 - residual_sum[d] / total : NAN;
+    fit.rmse_n = all.count > 0 ? std::sqrt(residual_sum[d] / all.count) : NAN;
+    fit.full_scale_range_n = max_force[d] - min_force[d];
+    fit.rmse_percent_of_range = 100.0 * fit.rmse_n / fit.full_scale_range_n;
+  }
+}
+
+ForceFitSummary FitForceModel(const FitModel& fit_model,
+                              const std::vector<ForceTest>& tests,
+                              const std::vector<ForceRow>& rows,
+                              const ForceFitOptions& options) {
+  ForceFitSummary summary;
+  summary.model_name = fit_model.name;
+  if (const std::optional<std::string> problem = options.Check()) {
+    summary.why_not = "fit options: " + *problem;
+    return summary;
+  }
+  const NormalEquations equations =
+      AccumulateNormalEquations(fit_model.model, tests, options);
+  const std::vector<int> free = FreeIndices(fit_model);
+  const int k = static_cast<int>(free.size());
+  const Eigen::Vector4d fixed_values =
+      ConstantsVector(fit_model.model.constants);
+  Eigen::MatrixXd normal = Restrict(equations.normal, free);
+  Eigen::VectorXd rhs(k);
+  for (int i = 0; i < k; ++i) {
+    // Move the fixed constants' contribution to the right-hand side.
+    rhs[i] = equations.rhs[free[i]];
+    for (int j = 0; j < kNumFitConstants; ++j) {
+      if (!fit_model.free[j]) {
+        rhs[i] -= equations.normal(free[i], j) * fixed_values[j];
+      }
+    }
+  }
+
+  // Identifiability: a constant whose column is zero over every row cannot
+  // be fitted at all; near-dependent columns make the answer meaningless.
+  const double largest = normal.diagonal().maxCoeff();
+  for (int i = 0; i < k; ++i) {
+    if (!(normal(i, i) > 1e-12 * largest)) {
+      summary.why_not = fmt::format("{} cannot be fitted from these tests: {}",
+                                    kFitConstantNames[free[i]],
+                                    kIdentifiabilityHint[free[i]]);
+      return summary;
+    }
+  }
+  const Eigen::VectorXd scale = normal.diagonal().cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled =
+      scale.asDiagonal() * normal * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scaled);
+  summary.condition_number =
+      eigen.eigenvalues().maxCoeff() / eigen.eigenvalues().minCoeff();
+  if (!(summary.condition_number <= options.max_condition_number)) {
+    const Eigen::VectorXd weakest = eigen.eigenvectors().col(0);
+    std::string names;
+    for (int i = 0; i < k; ++i) {
+      if (std::abs(weakest[i]) > 0.3) {
+        names += (names.empty() ? "" : " and ") +
+                 std::string(kFitConstantNames[free[i]]);
+      }
+    }
+    summary.why_not = fmt::format(
+        "ill-conditioned (condition number {:.3g}): these tests cannot tell "
+        "{} apart; add tests that vary dL and theta independently",
+        summary.condition_number, names);
+    return summary;
+  }
+  const Eigen::VectorXd closed_form =
+      scale.asDiagonal() * scaled.ldlt().solve(scale.asDiagonal() * rhs);
+
+  const Eigen::VectorXd lower = LowerBounds(free, options);
+  Eigen::VectorXd values = closed_form;
+  summary.method = "closed form (normal equations)";
+  const bool robust = options.loss != FitLoss::kLeastSquares;
+  if (robust || options.rows_with_ceres) {
+    if (rows.empty()) {
+      summary.why_not =
+          "a robust or row-wise fit needs rows kept in memory "
+          "(keep_every_nth_row > 0)";
+      return summary;
+    }
+    std::vector<FreeDesign> designs;
+    for (const ForceTest& test : tests) {
+      const TestDesign design = DesignOfTest(
+          fit_model.model, test.delta_length_mm(), test.theta_rad());
+      FreeDesign& restricted = designs.emplace_back();
+      restricted.u.resize(2, k);
+      restricted.v.resize(2, k);
+      for (int i = 0; i < k; ++i) {
+        restricted.u.col(i) = design.u.col(free[i]);
+        restricted.v.col(i) = design.v.col(free[i]);
+      }
+      for (int j = 0; j < kNumFitConstants; ++j) {
+        if (fit_model.free[j]) continue;
+        restricted.fixed_u += design.u.col(j) * fixed_values[j];
+        restricted.fixed_v += design.v.col(j) * fixed_values[j];
+      }
+    }
+    // Algorithm 1 starts from [1 1 1 1]; a robust fit starts from the least-
+    // squares answer, which is the right basin for a non-convex loss.
+    const Eigen::VectorXd start =
+        robust ? closed_form : Eigen::VectorXd::Ones(k);
+    const CeresFitResult result =
+        SolveRows(designs, rows, options, lower, start);
+    if (!result.converged) {
+      summary.why_not = result.why_not;
+      return summary;
+    }
+    values = result.values;
+    summary.ceres_iterations = result.iterations;
+    const char* loss_name = options.loss == FitLoss::kHuber    ? "Huber"
+                            : options.loss == FitLoss::kCauchy ? "Cauchy"
+                                                               : "no";
+    summary.method =
+        fmt::format("Ceres on {} rows, {} loss{}", rows.size(), loss_name,
+                    robust ? fmt::format(" (scale {} N)", options.loss_scale_n)
+                           : std::string());
+  } else if ((values.array() < lower.array()).any()) {
+    const CeresFitResult result =
+        SolveBoundedNormalEquations(normal, rhs, lower, closed_form);
+    if (!result.converged) {
+      summary.why_not = result.why_not;
+      return summary;
+    }
+    values = result.values;
+    summary.ceres_iterations = result.iterations;
+    summary.method = "Ceres, bounded least squares (normal equations)";
+  }
+
+  Eigen::Vector4d all_values = fixed_values;
+  for (int i = 0; i < k; ++i) all_values[free[i]] = values[i];
+  ForceModel fitted = fit_model.model;
+  fitted.constants = ConstantsFromVector(all_values, fit_model.model.constants);
+  summary.constants = fitted.constants;
+  EvaluateFit(fitted, tests, &summary);
+
+  // Standard errors with one noise level per direction (axial and shear
+  // sensors differ): Cov = N^-1 (sum_d w_d^4 s_d^2 N_d) N^-1.
+  const double dof = static_cast<double>(summary.rows - k);
+  if (dof > 0) {
+    const Eigen::MatrixXd inverse =
+        scale.asDiagonal() *
+        scaled.ldlt().solve(Eigen::MatrixXd(scale.asDiagonal()));
+    Eigen::MatrixXd middle = Eigen::MatrixXd::Zero(k, k);
+    const std::array<double, 2> weights = {options.axial_weight,
+                                           options.shear_weight};
+    for (int d = 0; d < 2; ++d) {
+      const double variance = summary.directions[d].rmse_n *
+                              summary.directions[d].rmse_n *
+                              static_cast<double>(summary.rows) / dof;
+      middle += std::pow(weights[d], 4) * variance *
+                Restrict(equations.direction_normal[d], free);
+    }
+    const Eigen::MatrixXd covariance = inverse * middle * inverse;
+    for (int i = 0; i < k; ++i) {
+      summary.standard_errors[free[i]] = std::sqrt(covariance(i, i));
+    }
+  }
+  for (int i = 0; i < k; ++i) {
+    const int index = free[i];
+    if (values[i] <= lower[i]) {
+      summary.at_bounds.push_back(kFitConstantNames[index]);
+      summary.standard_errors[index] = NAN;
+    } else if (summary.standard_errors[index] >
+               options.max_relative_standard_error * std::abs(values[i])) {
+      summary.why_not = fmt::format(
+          "{} is not determined by these tests: {:.4g} +- {:.3g} (standard "
+          "error above {:.0f} % of the value): {}",
+          kFitConstantNames[index], values[i], summary.standard_errors[index],
+          100.0 * options.max_relative_standard_error,
+          kIdentifiabilityHint[index]);
+      return summary;
+    }
+  }
+  summary.ok = true;
+  return summary;
+}
+
+}  // namespace softbench

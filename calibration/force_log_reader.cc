@@ -1,0 +1,329 @@
+#include "calibration/force_log_reader.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <set>
+
+#include "model/units.h"
+#include "util/csv.h"
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+constexpr size_t kMaxSkippedExamples = 5;
+// Rows between updates of the shared byte counter.
+constexpr int64_t kProgressEveryRows = 1 << 16;
+
+int RequireColumn(const CsvReader& reader, const std::string& name,
+                  std::string_view role) {
+  const int index = reader.ColumnIndex(name);
+  if (index >= 0) return index;
+  std::string header;
+  for (const std::string& column : reader.header()) {
+    header += (header.empty() ? "" : ",") + column;
+  }
+  throw InputError(fmt::format(
+      "{}: header: no column '{}' for the {}; the header is '{}'; rename the "
+      "column or map it in the manifest (columns/axes)",
+      reader.path(), name, role, header));
+}
+
+// Parses and checks the rows of a log, one at a time.
+class LogRowParser {
+ public:
+  enum class Row { kEnd, kSkipped, kValid };
+
+  LogRowParser(const std::string& path, const ForceLogColumns& columns,
+               const ForceLogReadOptions& options, ForceLogReadSummary* summary,
+               std::atomic<int64_t>* bytes_done)
+      : reader_(path),
+        columns_(columns),
+        options_(options),
+        summary_(summary),
+        bytes_done_(bytes_done),
+        time_(RequireColumn(reader_, columns.time, "time")),
+        pressure_(RequireColumn(reader_, columns.pressure, "pressure")),
+        axial_(RequireColumn(reader_, columns.axial, "axial force")),
+        shear_(RequireColumn(reader_, columns.shear, "shear force")) {}
+
+  ~LogRowParser() { ReportBytes(); }
+
+  CsvReader& reader() { return reader_; }
+  const std::vector<std::string_view>& fields() const { return fields_; }
+
+  Row Next() {
+    if (!reader_.ReadRow(&fields_)) return Row::kEnd;
+    if (++rows_since_report_ == kProgressEveryRows) ReportBytes();
+    const std::optional<double> time = Number(time_, "time");
+    const std::optional<double> pressure = Number(pressure_, "pressure");
+    const std::optional<double> axial = Number(axial_, "axial force");
+    const std::optional<double> shear = Number(shear_, "shear force");
+    if (!time || !pressure || !axial || !shear) return Row::kSkipped;
+    pressure_mpa = *pressure * columns_.mpa_per_pressure_unit;
+    axial_n = columns_.axial_sign * *axial;
+    shear_n = columns_.shear_sign * *shear;
+    if (pressure_mpa < options_.min_pressure_mpa ||
+        pressure_mpa > options_.max_pressure_mpa) {
+      return Skip(fmt::format(
+          "pressure {} is outside {} .. {} in the log's unit", *pressure,
+          options_.min_pressure_mpa / columns_.mpa_per_pressure_unit,
+          options_.max_pressure_mpa / columns_.mpa_per_pressure_unit));
+    }
+    if (std::abs(axial_n) > options_.max_abs_force_n ||
+        std::abs(shear_n) > options_.max_abs_force_n) {
+      return Skip(fmt::format("a force beyond +-{} N (the sensor's range)",
+                              options_.max_abs_force_n));
+    }
+    time_s = *time;
+    ++summary_->rows;
+    return Row::kValid;
+  }
+
+  // Called for each valid row once it is known which test it belongs to.
+  void CheckTimeOrder() {
+    if (time_s < last_time_s_) {
+      throw InputError(fmt::format(
+          "{}time {} s is before the previous row's {} s; sort the log by "
+          "time",
+          reader_.Where(), time_s, last_time_s_));
+    }
+    last_time_s_ = time_s;
+  }
+  // A new test starts (combined logs): time may start again.
+  void RestartTime() { last_time_s_ = -INFINITY; }
+
+  double time_s = 0.0;
+  double pressure_mpa = 0.0;
+  double axial_n = 0.0;
+  double shear_n = 0.0;
+
+ private:
+  std::optional<double> Number(int column, std::string_view what) {
+    const std::optional<double> value = ParseDouble(fields_[column]);
+    if (value && std::isfinite(*value)) return value;
+    Skip(fmt::format("{} '{}' is not a finite number", what, fields_[column]));
+    return std::nullopt;
+  }
+
+  Row Skip(std::string why) {
+    // One row may fail several checks; count it once.
+    if (skipped_line_ != reader_.line_number()) {
+      skipped_line_ = reader_.line_number();
+      ++summary_->rows_skipped;
+      if (summary_->skipped_examples.size() < kMaxSkippedExamples) {
+        summary_->skipped_examples.push_back(reader_.Where() + why);
+      }
+    }
+    return Row::kSkipped;
+  }
+
+  void ReportBytes() {
+    if (bytes_done_ != nullptr) {
+      bytes_done_->fetch_add(reader_.bytes_read() - bytes_reported_);
+    }
+    bytes_reported_ = reader_.bytes_read();
+    rows_since_report_ = 0;
+  }
+
+  CsvReader reader_;
+  const ForceLogColumns& columns_;
+  const ForceLogReadOptions& options_;
+  ForceLogReadSummary* summary_;
+  std::atomic<int64_t>* bytes_done_;
+  int time_, pressure_, axial_, shear_;
+  std::vector<std::string_view> fields_;
+  double last_time_s_ = -INFINITY;
+  int skipped_line_ = 0;
+  int64_t rows_since_report_ = 0;
+  int64_t bytes_reported_ = 0;
+};
+
+// Ends a test: the checks that need all its rows.
+void FinishTest(const std::string& path, const ForceLogReadOptions& options,
+                const ForceLogReadSummary& file_summary,
+                const ForceTestAccumulator& accumulator, ForceTest* test) {
+  const int64_t seen = file_summary.rows + file_summary.rows_skipped;
+  if (file_summary.rows_skipped >
+      options.max_skipped_fraction * static_cast<double>(seen)) {
+    throw InputError(fmt::format(
+        "{}: {} of {} rows are unusable (more than {:.3g} %), the first: {}; "
+        "fix the export",
+        path, file_summary.rows_skipped, seen,
+        100.0 * options.max_skipped_fraction,
+        file_summary.skipped_examples.front()));
+  }
+  test->statistics = accumulator.Statistics();
+  if (accumulator.count() == 0 || test->statistics.ZeroPressure().count == 0) {
+    throw InputError(fmt::format(
+        "{}: test '{}' has no rows at zero pressure (<= {} kPa); the static "
+        "offset needs the rows logged before the ramp starts",
+        path, test->id, options.binning.zero_pressure_mpa / kMpaPerKpa));
+  }
+}
+
+void CheckOptions(const ForceLogReadOptions& options) {
+  if (const std::optional<std::string> problem = options.Check()) {
+    throw InputError("force log options: " + *problem);
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> ForceLogReadOptions::Check() const {
+  if (std::optional<std::string> problem = binning.Check()) return problem;
+  if (!(max_abs_force_n > 0.0)) return "max_abs_force_n must be > 0";
+  if (!(min_pressure_mpa < max_pressure_mpa)) {
+    return "min_pressure_mpa must be below max_pressure_mpa";
+  }
+  if (!(max_skipped_fraction >= 0.0 && max_skipped_fraction <= 1.0)) {
+    return "max_skipped_fraction must be in [0, 1]";
+  }
+  if (keep_every_nth_row < 0) return "keep_every_nth_row must be >= 0";
+  return std::nullopt;
+}
+
+void ForceLogReadSummary::Merge(const ForceLogReadSummary& other) {
+  rows += other.rows;
+  rows_skipped += other.rows_skipped;
+  for (const std::string& example : other.skipped_examples) {
+    if (skipped_examples.size() < kMaxSkippedExamples) {
+      skipped_examples.push_back(example);
+    }
+  }
+}
+
+void ReadForceTestCsv(const std::string& path, const ForceLogColumns& columns,
+                      const ForceLogReadOptions& options, int test_index,
+                      ForceTest* test, ForceLogReadSummary* summary,
+                      std::vector<ForceRow>* kept_rows,
+                      std::atomic<int64_t>* bytes_done) {
+  CheckOptions(options);
+  ForceLogReadSummary file_summary;
+  ForceTestAccumulator accumulator(options.binning);
+  {
+    LogRowParser parser(path, columns, options, &file_summary, bytes_done);
+    for (LogRowParser::Row row;
+         (row = parser.Next()) != LogRowParser::Row::kEnd;) {
+      if (row != LogRowParser::Row::kValid) continue;
+      parser.CheckTimeOrder();
+      accumulator.Add(parser.pressure_mpa, parser.axial_n, parser.shear_n);
+      if (kept_rows != nullptr && options.keep_every_nth_row > 0 &&
+          accumulator.count() % options.keep_every_nth_row == 0) {
+        kept_rows->push_back(
+            {parser.pressure_mpa, parser.axial_n, parser.shear_n, test_index});
+      }
+    }
+  }
+  test->source = path;
+  FinishTest(path, options, file_summary, accumulator, test);
+  summary->Merge(file_summary);
+}
+
+std::vector<ForceTest> ReadCombinedForceLog(const std::string& path,
+                                            const ForceLogColumns& columns,
+                                            const ForceLogReadOptions& options,
+                                            ForceLogReadSummary* summary,
+                                            std::vector<ForceRow>* kept_rows,
+                                            std::atomic<int64_t>* bytes_done) {
+  CheckOptions(options);
+  ForceLogReadSummary file_summary;
+  LogRowParser parser(path, columns, options, &file_summary, bytes_done);
+  const CsvReader& reader = parser.reader();
+  const int id_column = RequireColumn(reader, "test_id", "test id");
+  const int length_column =
+      RequireColumn(reader, "delta_length_mm", "nominal change of length");
+  const int theta_column =
+      RequireColumn(reader, "theta_deg", "nominal orientation angle");
+  const int measured_length_column =
+      reader.ColumnIndex("measured_delta_length_mm");
+  const int measured_theta_column = reader.ColumnIndex("measured_theta_deg");
+
+  std::vector<ForceTest> tests;
+  std::set<std::string> finished_ids;
+  std::optional<ForceTestAccumulator> accumulator;
+  // The configuration fields' text in the current test's first row.
+  std::vector<std::string> configuration_text;
+  const std::vector<int> configuration_columns = {length_column, theta_column,
+                                                  measured_length_column,
+                                                  measured_theta_column};
+  const auto configuration_number = [&](int column, std::string_view name) {
+    const std::optional<double> value = ParseDouble(parser.fields()[column]);
+    if (!value || !std::isfinite(*value)) {
+      throw InputError(fmt::format("{}{} '{}' is not a finite number",
+                                   reader.Where(), name,
+                                   parser.fields()[column]));
+    }
+    return *value;
+  };
+  const auto finish = [&] {
+    if (!accumulator) return;
+    ForceTest& test = tests.back();
+    FinishTest(path, options, file_summary, *accumulator, &test);
+    finished_ids.insert(test.id);
+  };
+
+  for (LogRowParser::Row row;
+       (row = parser.Next()) != LogRowParser::Row::kEnd;) {
+    const std::string_view id = parser.fields()[id_column];
+    if (tests.empty() || id != tests.back().id) {
+      finish();
+      if (finished_ids.count(std::string(id)) != 0) {
+        throw InputError(fmt::format(
+            "{}test '{}' appears again after other tests; keep each test's "
+            "rows together",
+            reader.Where(), id));
+      }
+      ForceTest& test = tests.emplace_back();
+      test.id = id;
+      test.source = path;
+      test.nominal_delta_length_mm =
+          configuration_number(length_column, "delta_length_mm");
+      test.nominal_theta_rad =
+          DegToRad(configuration_number(theta_column, "theta_deg"));
+      if (measured_length_column >= 0) {
+        test.measured_delta_length_mm = configuration_number(
+            measured_length_column, "measured_delta_length_mm");
+      }
+      if (measured_theta_column >= 0) {
+        test.measured_theta_rad = DegToRad(
+            configuration_number(measured_theta_column, "measured_theta_deg"));
+      }
+      configuration_text.clear();
+      for (int column : configuration_columns) {
+        configuration_text.emplace_back(column >= 0 ? parser.fields()[column]
+                                                    : std::string_view());
+      }
+      accumulator.emplace(options.binning);
+      parser.RestartTime();
+    } else {
+      for (size_t k = 0; k < configuration_columns.size(); ++k) {
+        const int column = configuration_columns[k];
+        if (column >= 0 && parser.fields()[column] != configuration_text[k]) {
+          throw InputError(fmt::format(
+              "{}{} changes within test '{}' ('{}', was '{}'); give each "
+              "configuration its own test_id",
+              reader.Where(), reader.header()[column], id,
+              parser.fields()[column], configuration_text[k]));
+        }
+      }
+    }
+    if (row != LogRowParser::Row::kValid) continue;
+    parser.CheckTimeOrder();
+    accumulator->Add(parser.pressure_mpa, parser.axial_n, parser.shear_n);
+    if (kept_rows != nullptr && options.keep_every_nth_row > 0 &&
+        accumulator->count() % options.keep_every_nth_row == 0) {
+      kept_rows->push_back({parser.pressure_mpa, parser.axial_n, parser.shear_n,
+                            static_cast<int>(tests.size()) - 1});
+    }
+  }
+  finish();
+  if (tests.empty()) {
+    throw InputError(path + ": no data rows; the log is empty");
+  }
+  summary->Merge(file_summary);
+  return tests;
+}
+
+}  // namespace softbench

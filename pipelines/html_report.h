@@ -1,0 +1,41 @@
+#ifndef SOFTBENCH_PIPELINES_HTML_REPORT_H_
+#define SOFTBENCH_PIPELINES_HTML_REPORT_H_
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace softbench {
+
+// A self-contained HTML report: headings, text, tables and Vega-Lite charts,
+// with Vega, Vega-Lite and vega-embed inlined from the npm packages that
+// scripts/bootstrap.sh installs (report/node_modules), so the page works
+// offline and the report directory can be mailed as is.
+class HtmlReport {
+ public:
+  explicit HtmlReport(std::string title);
+
+  void AddHeading(const std::string& text);
+  // `text` is escaped; no markup.
+  void AddParagraph(const std::string& text);
+  void AddTable(const std::vector<std::string>& header,
+                const std::vector<std::vector<std::string>>& rows);
+  // A Vega-Lite specification (data inlined in it).
+  void AddChart(const nlohmann::json& vega_lite);
+
+  // The page; throws InputError when the plotting libraries are missing.
+  std::string Render() const;
+
+ private:
+  std::string title_;
+  std::string body_;
+  std::vector<nlohmann::json> charts_;
+};
+
+// Where the plotting libraries are: $SOFTBENCH_REPORT_ASSETS, else the
+// source tree's report/node_modules.
+std::string ReportAssetsDirectory();
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_HTML_REPORT_H_

@@ -1,0 +1,19 @@
+#ifndef SOFTBENCH_UTIL_PARALLEL_TASKS_H_
+#define SOFTBENCH_UTIL_PARALLEL_TASKS_H_
+
+#include <functional>
+
+namespace softbench {
+
+// Runs task(0) ... task(count - 1) on `threads` worker threads (0: one per
+// core), each index exactly once, while the calling thread calls `poll` about
+// ten times a second (progress bars). The first exception a task throws stops
+// the remaining tasks from starting and is rethrown here once all workers
+// have finished.
+void RunParallelTasks(int count, int threads,
+                      const std::function<void(int)>& task,
+                      const std::function<void()>& poll);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_UTIL_PARALLEL_TASKS_H_
