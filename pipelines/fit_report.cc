@@ -90,6 +90,9 @@ std::string ConfigurationsCsv(const FitRun& run) {
   for (const FitModel& model : run.models) {
     out += fmt::format(",{0}_static_axial_n,{0}_static_shear_n", model.name);
   }
+  for (const FitModel& model : run.models) {
+    out += fmt::format(",{0}_axial_rmse_n,{0}_shear_rmse_n", model.name);
+  }
   out +=
       ",axial_area_mm2,shear_area_mm2,hysteresis_axial_max_n,"
       "hysteresis_shear_max_n,hysteresis_axial_mean_n,hysteresis_shear_mean_n"
@@ -110,6 +113,24 @@ std::string ConfigurationsCsv(const FitRun& run) {
           ModelForce(FittedModel(run.models[m], run.fits[m]), 0.0,
                      c.delta_length_mm, c.theta_rad);
       out += fmt::format(",{:.5f},{:.5f}", model[0], model[1]);
+    }
+    for (const ForceFitSummary& fit : run.fits) {
+      // Pooled over the repeats: sqrt(sum n rmse^2 / sum n).
+      Eigen::Vector2d squares = Eigen::Vector2d::Zero();
+      double rows = 0.0;
+      for (int t : c.tests) {
+        if (!fit.ok) break;
+        const double n =
+            static_cast<double>(run.tests[t].statistics.All().count);
+        rows += n;
+        for (int d = 0; d < 2; ++d) {
+          squares[d] += n * fit.test_rmse_n[t][d] * fit.test_rmse_n[t][d];
+        }
+      }
+      out += fit.ok
+                 ? fmt::format(",{:.5f},{:.5f}", std::sqrt(squares[0] / rows),
+                               std::sqrt(squares[1] / rows))
+                 : std::string(",,");
     }
     out += fmt::format(",{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{:.5f}\n",
                        c.axial_area_mm2, c.shear_area_mm2,
@@ -387,6 +408,75 @@ json StaticOffsetChart(const FitRun& run, const ForceFitSummary& fit,
              {{"field", "shear"}}}}}}}}}};
 }
 
+// Figs. 3.15 / 3.16: static offsets against dL and against theta, measured
+// per configuration, with the model's lines through the other variable's
+// nominal values.
+json StaticOffsetProjectionChart(const FitRun& run, const ForceFitSummary& fit,
+                                 const FitModel& fit_model) {
+  const ForceModel model = FittedModel(fit_model, fit);
+  std::vector<double> lengths, angles;
+  for (const ConfigurationAnalysis& c : run.configurations) {
+    lengths.push_back(c.nominal_delta_length_mm);
+    angles.push_back(c.nominal_theta_rad);
+  }
+  for (std::vector<double>* values : {&lengths, &angles}) {
+    std::sort(values->begin(), values->end());
+    values->erase(std::unique(values->begin(), values->end()), values->end());
+  }
+  json values = json::array();
+  const auto add = [&](const std::string& series, double dl, double theta,
+                       const Eigen::Vector2d& force) {
+    for (int d = 0; d < 2; ++d) {
+      values.push_back({{"series", series},
+                        {"direction", kDirectionNames[d]},
+                        {"against", "dL [mm]"},
+                        {"x", dl},
+                        {"group", fmt::format("theta {:g}", RadToDeg(theta))},
+                        {"force", force[d]}});
+      values.push_back({{"series", series},
+                        {"direction", kDirectionNames[d]},
+                        {"against", "theta [deg]"},
+                        {"x", RadToDeg(theta)},
+                        {"group", fmt::format("dL {:g}", dl)},
+                        {"force", force[d]}});
+    }
+  };
+  for (const ConfigurationAnalysis& c : run.configurations) {
+    add("measured", c.nominal_delta_length_mm, c.nominal_theta_rad,
+        c.static_offset_n);
+  }
+  for (double dl : lengths) {
+    for (double theta : angles) {
+      add("model", dl, theta, ModelForce(model, 0.0, dl, theta));
+    }
+  }
+  const json x = {{"field", "x"}, {"type", "quantitative"}, {"title", nullptr}};
+  const json y = {{"field", "force"},
+                  {"type", "quantitative"},
+                  {"title", "static offset [N]"}};
+  const json color = {
+      {"field", "group"}, {"type", "nominal"}, {"title", nullptr}};
+  return {
+      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"title", "Static offsets against dL and theta: measured (points) and " +
+                    fit.model_name + " model (lines) (figs. 3.15, 3.16)"},
+      {"data", {{"values", values}}},
+      {"facet",
+       {{"row", {{"field", "direction"}, {"type", "nominal"}}},
+        {"column", {{"field", "against"}, {"type", "nominal"}}}}},
+      {"resolve", {{"scale", {{"x", "independent"}, {"y", "independent"}}}}},
+      {"spec",
+       {{"width", 320},
+        {"height", 200},
+        {"layer",
+         {{{"transform", {{{"filter", "datum.series == 'model'"}}}},
+           {"mark", {{"type", "line"}, {"strokeWidth", 1}}},
+           {"encoding", {{"x", x}, {"y", y}, {"color", color}}}},
+          {{"transform", {{{"filter", "datum.series == 'measured'"}}}},
+           {"mark", {{"type", "point"}, {"filled", true}}},
+           {"encoding", {{"x", x}, {"y", y}, {"color", color}}}}}}}}};
+}
+
 // Fig. 3.17: effective areas against theta, with the fitted A_z and W_y
 // theta.
 json EffectiveAreaChart(const FitRun& run, const ForceFitSummary& fit) {
@@ -619,6 +709,8 @@ std::string ReportHtml(const FitRun& run, const std::vector<BinRow>& bins) {
     report.AddHeading("Static offsets");
     report.AddChart(
         StaticOffsetChart(run, run.fits[chosen], run.models[chosen]));
+    report.AddChart(
+        StaticOffsetProjectionChart(run, run.fits[chosen], run.models[chosen]));
     report.AddHeading("Effective areas");
     report.AddChart(EffectiveAreaChart(run, run.fits[chosen]));
   }
