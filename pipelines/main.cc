@@ -14,6 +14,7 @@
 #include "pipelines/synth_forces_command.h"
 #include "pipelines/track_command.h"
 #include "pipelines/tune_command.h"
+#include "pipelines/validate_command.h"
 #include "pipelines/workspace_command.h"
 #include "util/input_error.h"
 
@@ -53,6 +54,8 @@ int main(int argc, char** argv) {
   softbench::AddFitCommand(&app, &fit);
   softbench::SynthForcesCommandOptions synth_forces;
   softbench::AddSynthForcesCommand(&app, &synth_forces);
+  softbench::ValidateCommandOptions validate;
+  softbench::AddValidateCommand(&app, &validate);
 
   try {
     app.parse(argc, argv);
@@ -92,6 +95,10 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("fit")) {
       fit.quiet = quiet;
       return softbench::RunFit(fit, std::cout);
+    }
+    if (app.got_subcommand("validate")) {
+      validate.quiet = quiet;
+      return softbench::RunValidate(validate, std::cout);
     }
     if (app.got_subcommand("synth-forces")) {
       synth_forces.quiet = quiet;

@@ -1,0 +1,32 @@
+#ifndef SOFTBENCH_PIPELINES_VALIDATE_COMMAND_H_
+#define SOFTBENCH_PIPELINES_VALIDATE_COMMAND_H_
+
+#include <CLI/CLI.hpp>
+#include <ostream>
+#include <string>
+
+#include "pipelines/validation.h"
+
+namespace softbench {
+
+// `softbench validate`: a bench video and its test plan in, the thesis's
+// per-test-point validation (figs. 4.8, 4.9, 4.16, 4.17) out.
+struct ValidateCommandOptions {
+  std::string video_path;
+  std::string plan_path;
+  std::string output_directory;
+  std::string constants_path;  // overrides the plan's
+  std::string variant;         // overrides the plan's / constants file's
+  bool quiet = false;
+  ValidationOptions validation;
+};
+
+void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options);
+int RunValidate(const ValidateCommandOptions& options, std::ostream& out);
+
+// results.csv of a validation (docs/file-formats.md).
+std::string ResultsCsv(const TestPlan& plan, const ValidationResult& result);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_VALIDATE_COMMAND_H_

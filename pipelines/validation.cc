@@ -1,0 +1,281 @@
+#include "pipelines/validation.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "model/equilibrium.h"
+#include "util/statistics.h"
+
+namespace softbench {
+namespace {
+
+// Equilibrium displacements of every head from rest for given pressures
+// [MPa], solved from the rest state; NaN when the solver fails.
+Eigen::VectorXd Predict(const Mechanism& mechanism, const ForceModel& model,
+                        const Eigen::VectorXd& pressures_mpa) {
+  const EquilibriumProblem problem(mechanism, model);
+  EquilibriumSolver solver(problem);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(problem.NumUnknowns());
+  if (!solver.Solve(pressures_mpa, &x).converged()) {
+    x.setConstant(NAN);
+  }
+  return x;
+}
+
+ErrorStatistics Statistics(const std::vector<double>& errors) {
+  ErrorStatistics s;
+  s.tests = static_cast<int>(errors.size());
+  if (errors.empty()) return s;
+  double sum = 0.0, squares = 0.0, largest = 0.0;
+  for (double e : errors) {
+    sum += e;
+    squares += e * e;
+    largest = std::max(largest, e);
+  }
+  s.mean_mm = sum / errors.size();
+  s.rms_mm = std::sqrt(squares / errors.size());
+  s.max_mm = largest;
+  return s;
+}
+
+// What the tests flagged for hysteresis share, in words.
+std::string SharedCause(const TestPlan& plan,
+                        const std::vector<TestScore>& tests,
+                        const std::vector<std::string>& flagged) {
+  if (flagged.empty()) return "no test point exceeds the tolerance";
+  std::vector<double> top;
+  for (const TestScore& t : tests) top.push_back(t.pressures.maxCoeff());
+  const double high = Quantile(top, 2.0 / 3.0);
+  bool all_high = true, all_late = true;
+  int common_actuator = -2;
+  for (size_t i = 0; i < tests.size(); ++i) {
+    if (std::find(flagged.begin(), flagged.end(), tests[i].id) ==
+        flagged.end()) {
+      continue;
+    }
+    all_high &= tests[i].pressures.maxCoeff() >= high;
+    all_late &= 2 * i >= tests.size();
+    int strongest = 0;
+    tests[i].pressures.maxCoeff(&strongest);
+    common_actuator =
+        common_actuator == -2 || common_actuator == strongest ? strongest : -1;
+  }
+  std::vector<std::string> causes;
+  if (flagged.size() >= 2 && all_high) {
+    causes.push_back(fmt::format("all at high pressure (max >= {:g} {})", high,
+                                 plan.pressure_unit));
+  }
+  if (flagged.size() >= 2 && all_late) {
+    causes.push_back("all in the second half of the run (drift or creep?)");
+  }
+  if (flagged.size() >= 2 && common_actuator >= 0) {
+    causes.push_back(fmt::format("all with actuator {} at the highest pressure",
+                                 common_actuator + 1));
+  }
+  if (causes.empty()) {
+    return flagged.size() == 1
+               ? "one test point: " + flagged.front()
+               : "no common cause in pressure level, actuator or time";
+  }
+  std::string text;
+  for (const std::string& cause : causes) {
+    text += (text.empty() ? "" : "; ") + cause;
+  }
+  return text;
+}
+
+}  // namespace
+
+std::optional<std::string> ValidationOptions::Check() const {
+  if (!(recommended_hold_s >= 0.0)) return "recommended_hold_s must be >= 0";
+  if (!(min_window_coverage > 0.0 && min_window_coverage <= 1.0)) {
+    return "min_window_coverage must be in (0, 1]";
+  }
+  return std::nullopt;
+}
+
+std::vector<std::array<WindowSummary, 3>> PlanWindows(const TestPlan& plan,
+                                                      double video_end_s) {
+  const double w = plan.window_s;
+  std::vector<std::array<WindowSummary, 3>> windows(plan.tests.size());
+  for (size_t i = 0; i < plan.tests.size(); ++i) {
+    const PlanTest& test = plan.tests[i];
+    const double next =
+        i + 1 < plan.tests.size() ? *plan.tests[i + 1].actuate_s : video_end_s;
+    const std::array<double, 3> ends = {*test.actuate_s, *test.release_s, next};
+    for (int k = 0; k < 3; ++k) {
+      windows[i][k].start_s = ends[k] - w;
+      windows[i][k].end_s = ends[k];
+    }
+  }
+  return windows;
+}
+
+void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
+                     WindowSummary* window) {
+  window->frames = 0;
+  window->head_frames.assign(num_heads, 0);
+  window->median_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
+  window->spread_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
+  std::vector<std::array<std::vector<double>, 2>> values(num_heads);
+  for (const FrameSample& frame : measurement.frames) {
+    if (frame.time_s < window->start_s || frame.time_s >= window->end_s) {
+      continue;
+    }
+    ++window->frames;
+    for (int h = 0; h < num_heads; ++h) {
+      const HeadSample& head = frame.heads[h];
+      if (!head.observation.complete) continue;
+      ++window->head_frames[h];
+      values[h][0].push_back(head.displacement_mm.x());
+      values[h][1].push_back(head.displacement_mm.y());
+    }
+  }
+  for (int h = 0; h < num_heads; ++h) {
+    if (values[h][0].empty()) continue;
+    for (int a = 0; a < 2; ++a) {
+      const double median = Median(values[h][a]);
+      std::vector<double> deviations;
+      for (double v : values[h][a]) deviations.push_back(std::abs(v - median));
+      window->median_mm[h][a] = median;
+      window->spread_mm[h][a] = 1.4826 * Median(deviations);
+    }
+  }
+}
+
+ValidationResult ScoreTests(const TestPlan& plan,
+                            const VideoMeasurement& measurement,
+                            const ValidationOptions& options) {
+  const int num_heads = plan.mechanism.NumHeads();
+  const double video_end_s =
+      measurement.frames.empty() ? 0.0 : measurement.frames.back().time_s;
+  ValidationResult result;
+  result.model_name =
+      "axial-shear (" + std::string(VariantName(plan.force_model)) + ")";
+  result.baseline_name = "pressurized-spring";
+  const ForceModel baseline =
+      ForceModel::PressurizedSpring(plan.force_model.constants);
+  std::vector<std::array<WindowSummary, 3>> windows =
+      PlanWindows(plan, video_end_s);
+  std::vector<std::vector<double>> model_errors(num_heads),
+      baseline_errors(num_heads);
+  double shortest_hold_s = INFINITY;
+  for (size_t i = 0; i < plan.tests.size(); ++i) {
+    const PlanTest& test = plan.tests[i];
+    shortest_hold_s =
+        std::min(shortest_hold_s, *test.release_s - *test.actuate_s);
+    TestScore& score = result.tests.emplace_back();
+    score.id = test.id;
+    score.pressures = test.pressures;
+    score.windows = windows[i];
+    score.measured = true;
+    for (int k = 0; k < 3; ++k) {
+      WindowSummary& window = score.windows[k];
+      SummariseWindow(measurement, num_heads, &window);
+      for (int h = 0; h < num_heads; ++h) {
+        if (window.head_frames[h] <
+                options.min_window_coverage * std::max(window.frames, 1) ||
+            window.frames == 0) {
+          score.measured = false;
+          score.reason = fmt::format(
+              "{} window {:.2f}-{:.2f} s: {}", kWindowNames[k], window.start_s,
+              window.end_s,
+              window.frames == 0
+                  ? "no frames (beyond the video?)"
+                  : fmt::format("{} complete in {} of {} frames",
+                                plan.mechanism.heads[h].name,
+                                window.head_frames[h], window.frames));
+        }
+      }
+    }
+    const Eigen::VectorXd pressures_mpa = test.pressures * plan.mpa_per_unit;
+    const Eigen::VectorXd model =
+        Predict(plan.mechanism, plan.force_model, pressures_mpa);
+    const Eigen::VectorXd spring =
+        Predict(plan.mechanism, baseline, pressures_mpa);
+    bool hysteresis_ok = true;
+    for (int h = 0; h < num_heads; ++h) {
+      HeadScore& head = score.heads.emplace_back();
+      head.model_mm = model.segment<2>(2 * h);
+      head.baseline_mm = spring.segment<2>(2 * h);
+      if (!score.measured) continue;
+      const Eigen::Vector2d initial =
+          score.windows[kInitialWindow].median_mm[h];
+      head.measured_mm = score.windows[kActuatedWindow].median_mm[h] - initial;
+      head.model_error_mm = (head.measured_mm - head.model_mm).norm();
+      head.baseline_error_mm = (head.measured_mm - head.baseline_mm).norm();
+      head.hysteresis_mm =
+          (score.windows[kFinalWindow].median_mm[h] - initial).norm();
+      head.hysteresis_ok = head.hysteresis_mm <= plan.hysteresis_tolerance_mm;
+      hysteresis_ok &= head.hysteresis_ok;
+      model_errors[h].push_back(head.model_error_mm);
+      baseline_errors[h].push_back(head.baseline_error_mm);
+    }
+    score.status = !score.measured ? "not measured"
+                   : hysteresis_ok ? "ok"
+                                   : "hysteresis";
+    if (score.measured && !hysteresis_ok) {
+      result.hysteresis_flagged.push_back(score.id);
+    }
+  }
+  for (int h = 0; h < num_heads; ++h) {
+    result.model_errors.push_back(Statistics(model_errors[h]));
+    result.baseline_errors.push_back(Statistics(baseline_errors[h]));
+    const double base = result.baseline_errors[h].mean_mm;
+    result.improvement_percent.push_back(
+        100.0 * (base - result.model_errors[h].mean_mm) / base);
+  }
+  // Repeats: tests with the same pressures.
+  std::vector<bool> grouped(result.tests.size(), false);
+  for (size_t i = 0; i < result.tests.size(); ++i) {
+    if (grouped[i]) continue;
+    RepeatAgreement group;
+    std::vector<size_t> members;
+    for (size_t j = i; j < result.tests.size(); ++j) {
+      if (!grouped[j] && result.tests[j].pressures.isApprox(
+                             result.tests[i].pressures, 1e-12)) {
+        grouped[j] = true;
+        members.push_back(j);
+        group.test_ids.push_back(result.tests[j].id);
+      }
+    }
+    if (members.size() < 2) continue;
+    for (int h = 0; h < num_heads; ++h) {
+      double largest = 0.0;
+      for (size_t a : members) {
+        for (size_t b : members) {
+          const double d = (result.tests[a].heads[h].measured_mm -
+                            result.tests[b].heads[h].measured_mm)
+                               .norm();
+          if (std::isfinite(d)) largest = std::max(largest, d);
+        }
+      }
+      group.max_difference_mm.push_back(largest);
+    }
+    result.repeats.push_back(group);
+  }
+  result.hysteresis_cause =
+      SharedCause(plan, result.tests, result.hysteresis_flagged);
+  if (shortest_hold_s < options.recommended_hold_s) {
+    result.warnings.push_back(fmt::format(
+        "holds as short as {:.1f} s: the thesis waited {:.0f} s after "
+        "actuation for viscous creep to settle, so the actuated windows may "
+        "not be at equilibrium",
+        shortest_hold_s, options.recommended_hold_s));
+  }
+  for (const TestScore& score : result.tests) {
+    const double rest_s = score.windows[kFinalWindow].end_s -
+                          score.windows[kActuatedWindow].end_s;
+    if (rest_s < 2.0 * plan.window_s) {
+      result.warnings.push_back(fmt::format(
+          "{}: only {:.1f} s between release and the final window's end; the "
+          "head may not have settled",
+          score.id, rest_s));
+    }
+  }
+  return result;
+}
+
+}  // namespace softbench

@@ -1,0 +1,235 @@
+// `softbench validate`: scoring against the renderer's truth on the bundled
+// samples, predictions against `softbench predict`, hysteresis flags on a
+// rendered slip, and its outputs.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "pipelines/predict_command.h"
+#include "pipelines/render_command.h"
+#include "pipelines/validate_command.h"
+#include "tests/pipelines/scratch_directory.h"
+#include "util/csv.h"
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Per-frame truth of a rendered video: time and every head's displacement.
+struct Truth {
+  std::vector<double> time_s;
+  std::vector<Eigen::VectorXd> displacement_mm;  // (y1, z1, y2, z2, ...)
+};
+
+Truth LoadTruth(const std::string& path, int num_heads) {
+  CsvReader reader(path);
+  Truth truth;
+  std::vector<std::string_view> fields;
+  while (reader.ReadRow(&fields)) {
+    truth.time_s.push_back(*ParseDouble(fields[1]));
+    Eigen::VectorXd d(2 * num_heads);
+    for (int h = 0; h < num_heads; ++h) {
+      d[2 * h] = *ParseDouble(fields[2 + 4 * h]);
+      d[2 * h + 1] = *ParseDouble(fields[3 + 4 * h]);
+    }
+    truth.displacement_mm.push_back(d);
+  }
+  return truth;
+}
+
+// The truth's median over a window, per coordinate.
+Eigen::VectorXd TruthMedian(const Truth& truth, const WindowSummary& window) {
+  std::vector<std::vector<double>> values(truth.displacement_mm[0].size());
+  for (size_t i = 0; i < truth.time_s.size(); ++i) {
+    if (truth.time_s[i] < window.start_s || truth.time_s[i] >= window.end_s) {
+      continue;
+    }
+    for (size_t k = 0; k < values.size(); ++k) {
+      values[k].push_back(truth.displacement_mm[i][k]);
+    }
+  }
+  Eigen::VectorXd median(values.size());
+  for (size_t k = 0; k < values.size(); ++k) {
+    std::sort(values[k].begin(), values[k].end());
+    const size_t n = values[k].size();
+    median[k] = n % 2 ? values[k][n / 2]
+                      : 0.5 * (values[k][n / 2 - 1] + values[k][n / 2]);
+  }
+  return median;
+}
+
+// Scores a bundled sample and checks every measured displacement against
+// the truth in the same windows, and every prediction against predict.
+void CheckSample(const std::string& name) {
+  const std::string dir =
+      std::string(SOFTBENCH_SOURCE_DIR) + "/samples/" + name;
+  const TestPlan plan = LoadTestPlan(dir + "/rendered.plan.yaml");
+  VideoMeasurementOptions measure;
+  measure.progress = false;
+  const VideoMeasurement m =
+      MeasureVideo(plan, dir + "/" + name + ".mp4", measure);
+  const ValidationResult result = ScoreTests(plan, m, ValidationOptions());
+  const int num_heads = plan.mechanism.NumHeads();
+  const Truth truth = LoadTruth(dir + "/truth.csv", num_heads);
+
+  // What predict says for the same pressures (both models).
+  std::string pressures = "";
+  for (int k = 1; k <= plan.mechanism.NumActuators(); ++k) {
+    pressures += fmt::format("{}p{}", k > 1 ? "," : "", k);
+  }
+  pressures += "\n";
+  for (const PlanTest& test : plan.tests) {
+    for (int k = 0; k < test.pressures.size(); ++k) {
+      pressures += fmt::format("{}{}", k > 0 ? "," : "", test.pressures[k]);
+    }
+    pressures += "\n";
+  }
+  const std::string input =
+      (fs::temp_directory_path() /
+       ("softbench_validate_" + name + "_" + std::to_string(getpid()) + ".csv"))
+          .string();
+  std::ofstream(input) << pressures;
+  std::array<std::vector<Eigen::VectorXd>, 2> predicted;
+  for (int model = 0; model < 2; ++model) {
+    PredictOptions predict;
+    predict.model.mechanism = name;
+    predict.model.model = model == 0 ? "axial-shear" : "pressurized-spring";
+    predict.model.pressure_unit = plan.pressure_unit;
+    predict.input_path = input;
+    predict.output_path = input + ".out";
+    std::ostringstream out;
+    RunPredict(predict, out);
+    CsvReader reader(predict.output_path);
+    std::vector<std::string_view> fields;
+    while (reader.ReadRow(&fields)) {
+      Eigen::VectorXd x(2 * num_heads);
+      for (int k = 0; k < 2 * num_heads; ++k) {
+        x[k] = *ParseDouble(fields[plan.mechanism.NumActuators() + k]);
+      }
+      predicted[model].push_back(x);
+    }
+  }
+
+  ASSERT_EQ(result.tests.size(), plan.tests.size());
+  double worst = 0.0;
+  for (size_t i = 0; i < result.tests.size(); ++i) {
+    const TestScore& score = result.tests[i];
+    ASSERT_TRUE(score.measured) << score.id << ": " << score.reason;
+    EXPECT_EQ(score.status, "ok") << score.id;
+    const Eigen::VectorXd true_displacement =
+        TruthMedian(truth, score.windows[kActuatedWindow]) -
+        TruthMedian(truth, score.windows[kInitialWindow]);
+    for (int h = 0; h < num_heads; ++h) {
+      const double error =
+          (score.heads[h].measured_mm - true_displacement.segment<2>(2 * h))
+              .norm();
+      worst = std::max(worst, error);
+      EXPECT_LT(error, 0.005) << name << " " << score.id << " head " << h;
+      // predict prints 6 decimals.
+      EXPECT_NEAR(score.heads[h].model_mm.x(), predicted[0][i][2 * h], 1e-6);
+      EXPECT_NEAR(score.heads[h].model_mm.y(), predicted[0][i][2 * h + 1],
+                  1e-6);
+      EXPECT_NEAR(score.heads[h].baseline_mm.x(), predicted[1][i][2 * h], 1e-6);
+      EXPECT_NEAR(score.heads[h].baseline_mm.y(), predicted[1][i][2 * h + 1],
+                  1e-6);
+    }
+  }
+  std::cout << name << ": worst displacement error against the truth " << worst
+            << " mm\n";
+  // The samples' holds are 5 s, shorter than the thesis's 20 s.
+  ASSERT_FALSE(result.warnings.empty());
+  EXPECT_NE(result.warnings.front().find("holds as short as"),
+            std::string::npos);
+}
+
+TEST(ValidateSamples,
+     DeltaDisplacementsMatchTheTruthAndPredictionsMatchPredict) {
+  CheckSample("delta");
+}
+
+TEST(ValidateSamples,
+     FloatingDisplacementsMatchTheTruthAndPredictionsMatchPredict) {
+  CheckSample("floating");
+}
+
+constexpr char kSlipPlan[] = R"(mechanism: delta
+pressure_unit: psi
+calibration:
+  tag: {family: tag36h11, id: 3, size_mm: 25}
+scene: {settle_time_constant_s: 0.1, lead_in_s: 1.5, hold_s: 1.5, rest_s: 2.5}
+tests:
+  - {id: a, pressures: [6, 0, 0]}
+  - {id: b, pressures: [0, 6, 0], residual_offset_mm: [0.1, 0]}
+  - {id: c, pressures: [0, 0, 6]}
+)";
+
+class ValidateCommandTest : public ScratchDirectoryTest {};
+
+TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
+  RenderCommandOptions render;
+  render.plan_path = Write("plan.yaml", kSlipPlan);
+  render.output_path = Path("clip.mp4");
+  render.truth_path = Path("truth.csv");
+  render.plan_out_path = Path("rendered.plan.yaml");
+  render.resolution = "720p";
+  render.preset = "veryfast";
+  render.quiet = true;
+  std::ostringstream out;
+  RunRender(render, out);
+
+  ValidateCommandOptions options;
+  options.video_path = render.output_path;
+  options.plan_path = render.plan_out_path;
+  options.output_directory = Path("report");
+  options.quiet = true;
+  ASSERT_EQ(RunValidate(options, out), 0);
+  CsvReader results(Path("report/results.csv"));
+  std::vector<std::string_view> fields;
+  const int status = results.ColumnIndex("status");
+  const int flag = results.ColumnIndex("hysteresis_ok");
+  std::vector<std::string> statuses;
+  while (results.ReadRow(&fields)) {
+    statuses.emplace_back(fields[status]);
+    EXPECT_EQ(fields[flag], fields[0] == "b" ? "0" : "1") << fields[0];
+  }
+  EXPECT_EQ(statuses, (std::vector<std::string>{"ok", "hysteresis", "ok"}));
+  for (const char* file : {"report.html", "summary.json", "trajectory.csv"}) {
+    EXPECT_TRUE(fs::exists(Path("report/") + file)) << file;
+  }
+  const std::string check = std::string("node ") + SOFTBENCH_SOURCE_DIR +
+                            "/report/check_report.mjs " +
+                            Path("report/report.html") + " >&2";
+  EXPECT_EQ(std::system(check.c_str()), 0);
+  EXPECT_NE(Read(Path("report/summary.json"))
+                .find("\"flagged\": [\n      \"b\"\n    ]"),
+            std::string::npos);
+}
+
+TEST_F(ValidateCommandTest, RefusesAPlanWithoutTimesAndWritesNothing) {
+  ValidateCommandOptions options;
+  options.video_path =
+      std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/delta.mp4";
+  options.plan_path =
+      std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/plan.yaml";
+  options.output_directory = Path("report");
+  options.quiet = true;
+  std::ostringstream out;
+  try {
+    RunValidate(options, out);
+    ADD_FAILURE() << "a plan without times was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("actuate_s and release_s"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(Path("report")));
+}
+
+}  // namespace
+}  // namespace softbench
