@@ -8,6 +8,7 @@
 
 #include "pipelines/html_report.h"
 #include "pipelines/model_selection.h"
+#include "pipelines/test_point_detection.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
 
@@ -31,6 +32,7 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
   root["plan"] = plan.path;
   root["mechanism"] = plan.mechanism.name;
   root["model"] = r.model_name;
+  root["times_source"] = r.times_source;
   root["baseline"] = r.baseline_name;
   root["calibration"] = {{"scale_source", m.scale_source},
                          {"mm_per_px", m.mm_per_px},
@@ -234,10 +236,10 @@ std::string ReportHtml(const TestPlan& plan, const VideoMeasurement& m,
                        const ValidationResult& r) {
   HtmlReport report("Validation: " + m.video_path);
   report.AddParagraph(fmt::format(
-      "{} mechanism, plan {}, {} test points; model {} against the baseline "
-      "{}.",
-      plan.mechanism.name, plan.path, r.tests.size(), r.model_name,
-      r.baseline_name));
+      "{} mechanism, plan {}, {} test points (times from {}); model {} "
+      "against the baseline {}.",
+      plan.mechanism.name, plan.path, r.tests.size(), r.times_source,
+      r.model_name, r.baseline_name));
   for (const std::string& warning : r.warnings) {
     report.AddParagraph("Warning: " + warning);
   }
@@ -317,6 +319,9 @@ void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options) {
       ->required();
   c->add_option("--constants", options->constants_path,
                 "actuator constants (default: the plan's)");
+  c->add_option("--rest-s", options->rest_s,
+                "plan without times: seconds at rest at the video's start")
+      ->capture_default_str();
   c->add_option("--variant", options->variant,
                 "small-angle, full-trig or variable-arm (default: the plan's)");
 }
@@ -368,18 +373,30 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
                                 : options.variant,
         nullptr);
   }
-  if (!plan.HasTimes()) {
-    throw InputError(
-        plan.path +
-        ": tests: give every test actuate_s and release_s (finding the test "
-        "points from the motion is not available yet); `softbench render` "
-        "writes such a plan beside its video");
-  }
   VideoMeasurementOptions measure;
   measure.progress = !options.quiet;
-  measure.rest_s = std::max(0.1, *plan.tests.front().actuate_s);
+  if (plan.HasTimes()) {
+    measure.rest_s = *plan.tests.front().actuate_s;
+  } else {
+    measure.rest_s = options.rest_s;
+  }
   const VideoMeasurement m = MeasureVideo(plan, options.video_path, measure);
-  const ValidationResult result = ScoreTests(plan, m, options.validation);
+  std::string times_source = "the plan";
+  if (!plan.HasTimes()) {
+    const TestPointDetection detection = DetectTestPoints(
+        m, static_cast<int>(plan.tests.size()), options.detection);
+    if (!detection.found) {
+      throw InputError(options.video_path + ": " + detection.why_not);
+    }
+    for (size_t i = 0; i < plan.tests.size(); ++i) {
+      plan.tests[i].actuate_s = detection.points[i].actuate_s;
+      plan.tests[i].release_s = detection.points[i].release_s;
+    }
+    times_source = fmt::format("the motion (heads beyond {:.3f} mm)",
+                               detection.threshold_mm);
+  }
+  ValidationResult result = ScoreTests(plan, m, options.validation);
+  result.times_source = times_source;
 
   const std::string html = ReportHtml(plan, m, result);
   AtomicDirectory report(options.output_directory);
@@ -394,8 +411,8 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
     spdlog::warn("{}", warning);
   if (m.distortion.warn) spdlog::warn("{}", m.distortion.message);
   out << fmt::format(
-      "{}: {} test points, {} measured\n", options.video_path,
-      result.tests.size(),
+      "{}: {} test points (times from {}), {} measured\n", options.video_path,
+      result.tests.size(), result.times_source,
       std::count_if(result.tests.begin(), result.tests.end(),
                     [](const TestScore& t) { return t.measured; }));
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {

@@ -5,6 +5,7 @@
 #include <ostream>
 #include <string>
 
+#include "pipelines/test_point_detection.h"
 #include "pipelines/validation.h"
 
 namespace softbench {
@@ -17,8 +18,11 @@ struct ValidateCommandOptions {
   std::string output_directory;
   std::string constants_path;  // overrides the plan's
   std::string variant;         // overrides the plan's / constants file's
+  // Without times in the plan: seconds at rest at the start of the video.
+  double rest_s = 1.0;
   bool quiet = false;
   ValidationOptions validation;
+  TestPointDetectionOptions detection;
 };
 
 void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options);

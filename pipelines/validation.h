@@ -88,6 +88,8 @@ struct ValidationResult {
   std::vector<std::string> hysteresis_flagged;  // test ids
   std::string hysteresis_cause;  // what the flagged tests share, if anything
   std::vector<std::string> warnings;
+  // Where the test points' times came from ("the plan", "the motion ...").
+  std::string times_source = "the plan";
 };
 
 // The windows of each test from the plan's times: initial just before

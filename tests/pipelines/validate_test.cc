@@ -11,6 +11,7 @@
 
 #include "pipelines/predict_command.h"
 #include "pipelines/render_command.h"
+#include "pipelines/test_point_detection.h"
 #include "pipelines/validate_command.h"
 #include "tests/pipelines/scratch_directory.h"
 #include "util/csv.h"
@@ -158,6 +159,39 @@ TEST(ValidateSamples,
   CheckSample("floating");
 }
 
+// Test points found from the motion for the plans without times match the
+// times the renderer used.
+void CheckDetectedTimes(const std::string& name) {
+  const std::string dir =
+      std::string(SOFTBENCH_SOURCE_DIR) + "/samples/" + name;
+  const TestPlan plan = LoadTestPlan(dir + "/plan.yaml");
+  const TestPlan rendered = LoadTestPlan(dir + "/rendered.plan.yaml");
+  ASSERT_FALSE(plan.HasTimes());
+  VideoMeasurementOptions measure;
+  measure.progress = false;
+  const VideoMeasurement m =
+      MeasureVideo(plan, dir + "/" + name + ".mp4", measure);
+  const TestPointDetection d = DetectTestPoints(
+      m, static_cast<int>(plan.tests.size()), TestPointDetectionOptions());
+  ASSERT_TRUE(d.found) << d.why_not;
+  double worst = 0.0;
+  for (size_t i = 0; i < plan.tests.size(); ++i) {
+    worst = std::max(
+        {worst, std::abs(d.points[i].actuate_s - *rendered.tests[i].actuate_s),
+         std::abs(d.points[i].release_s - *rendered.tests[i].release_s)});
+  }
+  EXPECT_LT(worst, 0.2);
+  std::cout << name << ": worst detected time error " << worst << " s\n";
+}
+
+TEST(ValidateSamples, FindsTheDeltaTestPointsFromTheMotion) {
+  CheckDetectedTimes("delta");
+}
+
+TEST(ValidateSamples, FindsTheFloatingTestPointsFromTheMotion) {
+  CheckDetectedTimes("floating");
+}
+
 constexpr char kSlipPlan[] = R"(mechanism: delta
 pressure_unit: psi
 calibration:
@@ -211,21 +245,25 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
             std::string::npos);
 }
 
-TEST_F(ValidateCommandTest, RefusesAPlanWithoutTimesAndWritesNothing) {
+TEST_F(ValidateCommandTest, RefusesAPlanWithSomeTimesAndWritesNothing) {
   ValidateCommandOptions options;
   options.video_path =
       std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/delta.mp4";
-  options.plan_path =
-      std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/plan.yaml";
+  std::string plan =
+      Read(std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/plan.yaml");
+  plan.replace(plan.find("pressures: [6, 6, 0]}"), 21,
+               "pressures: [6, 6, 0], actuate_s: 2, release_s: 7}");
+  options.plan_path = Write("plan.yaml", plan);
   options.output_directory = Path("report");
   options.quiet = true;
   std::ostringstream out;
   try {
     RunValidate(options, out);
-    ADD_FAILURE() << "a plan without times was accepted";
+    ADD_FAILURE() << "a plan with some times was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("actuate_s and release_s"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("some tests have times and some do not"),
+        std::string::npos)
         << e.what();
   }
   EXPECT_FALSE(fs::exists(Path("report")));
