@@ -5,62 +5,11 @@
 
 #include "model/equilibrium.h"
 #include "pipelines/prediction_table.h"
+#include "pipelines/pressure_csv.h"
 #include "util/atomic_file.h"
-#include "util/csv.h"
 #include "util/input_error.h"
 
 namespace softbench {
-namespace {
-
-// Reads columns p1..pN (in the selected unit) of every row; other columns are
-// ignored. Rejects a column count that does not match the mechanism, and
-// non-numeric, non-finite or negative pressures, naming file, line and column.
-std::vector<Eigen::VectorXd> ReadPressureRows(const std::string& path,
-                                              int num_actuators) {
-  CsvReader reader(path);
-  std::vector<int> columns;
-  for (int a = 1; a <= num_actuators; ++a) {
-    const int column = reader.ColumnIndex(fmt::format("p{}", a));
-    if (column < 0) {
-      throw InputError(fmt::format(
-          "{}:1: column p{} is missing; the mechanism has {} actuators, so "
-          "give columns p1..p{}",
-          path, a, num_actuators, num_actuators));
-    }
-    columns.push_back(column);
-  }
-  if (reader.ColumnIndex(fmt::format("p{}", num_actuators + 1)) >= 0) {
-    throw InputError(fmt::format(
-        "{}:1: column p{} is one too many; the mechanism has {} actuators",
-        path, num_actuators + 1, num_actuators));
-  }
-  std::vector<Eigen::VectorXd> rows;
-  std::vector<std::string_view> fields;
-  while (reader.ReadRow(&fields)) {
-    Eigen::VectorXd pressures(num_actuators);
-    for (int a = 0; a < num_actuators; ++a) {
-      const std::string_view field = fields[columns[a]];
-      const std::optional<double> value = ParseDouble(field);
-      if (!value || !std::isfinite(*value)) {
-        throw InputError(fmt::format("{}column p{}: '{}' is not a number",
-                                     reader.Where(), a + 1, field));
-      }
-      if (*value < 0.0) {
-        throw InputError(fmt::format(
-            "{}column p{}: {} is negative; pressures are gauge pressures >= 0",
-            reader.Where(), a + 1, *value));
-      }
-      pressures[a] = *value;
-    }
-    rows.push_back(pressures);
-  }
-  if (rows.empty()) {
-    throw InputError(path + ": no pressure rows; add at least one row");
-  }
-  return rows;
-}
-
-}  // namespace
 
 void AddPredictCommand(CLI::App* app, PredictOptions* options) {
   CLI::App* command = app->add_subcommand(
@@ -102,7 +51,7 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
     rows.push_back(
         Eigen::Map<const Eigen::VectorXd>(values.data(), num_actuators));
   } else {
-    rows = ReadPressureRows(options.input_path, num_actuators);
+    rows = ReadPressureRows(options.input_path, num_actuators, nullptr);
   }
 
   const EquilibriumProblem problem(mechanism, resolved.force_model);

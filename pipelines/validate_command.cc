@@ -8,6 +8,8 @@
 
 #include "pipelines/html_report.h"
 #include "pipelines/model_selection.h"
+#include "pipelines/pressure_csv.h"
+#include "pipelines/pressure_log.h"
 #include "pipelines/test_point_detection.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
@@ -319,6 +321,9 @@ void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options) {
       ->required();
   c->add_option("--constants", options->constants_path,
                 "actuator constants (default: the plan's)");
+  c->add_option("--pressure-log", options->pressure_log_path,
+                "the regulator's log (time_s,p1..pN): test times from it, "
+                "its clock aligned by the motion");
   c->add_option("--rest-s", options->rest_s,
                 "plan without times: seconds at rest at the video's start")
       ->capture_default_str();
@@ -373,27 +378,62 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
                                 : options.variant,
         nullptr);
   }
+  // The log's holds, checked against the plan's tests before any video work.
+  std::vector<PressureHold> holds;
+  if (!options.pressure_log_path.empty()) {
+    std::vector<double> times_s;
+    const std::vector<Eigen::VectorXd> rows = ReadPressureRows(
+        options.pressure_log_path, plan.mechanism.NumActuators(), &times_s);
+    holds = PressureLogHolds(times_s, rows, 1e-6);
+    if (holds.size() != plan.tests.size()) {
+      throw InputError(fmt::format(
+          "{}: the log holds {} sets of pressures but the plan lists {} "
+          "tests; give the plan one test per hold, in order",
+          options.pressure_log_path, holds.size(), plan.tests.size()));
+    }
+    for (size_t i = 0; i < holds.size(); ++i) {
+      if ((holds[i].pressures - plan.tests[i].pressures).cwiseAbs().maxCoeff() >
+          1e-6) {
+        throw InputError(fmt::format(
+            "{}: hold {} (from t = {} s) is ({}) but plan test '{}' is ({}); "
+            "the plan's tests must follow the log's order",
+            options.pressure_log_path, i + 1, holds[i].start_s,
+            fmt::join(holds[i].pressures, ", "), plan.tests[i].id,
+            fmt::join(plan.tests[i].pressures, ", ")));
+      }
+    }
+  }
   VideoMeasurementOptions measure;
   measure.progress = !options.quiet;
-  if (plan.HasTimes()) {
-    measure.rest_s = *plan.tests.front().actuate_s;
-  } else {
-    measure.rest_s = options.rest_s;
-  }
+  measure.rest_s = plan.HasTimes() && holds.empty()
+                       ? *plan.tests.front().actuate_s
+                       : options.rest_s;
   const VideoMeasurement m = MeasureVideo(plan, options.video_path, measure);
   std::string times_source = "the plan";
-  if (!plan.HasTimes()) {
+  if (!plan.HasTimes() || !holds.empty()) {
     const TestPointDetection detection = DetectTestPoints(
         m, static_cast<int>(plan.tests.size()), options.detection);
     if (!detection.found) {
       throw InputError(options.video_path + ": " + detection.why_not);
     }
-    for (size_t i = 0; i < plan.tests.size(); ++i) {
-      plan.tests[i].actuate_s = detection.points[i].actuate_s;
-      plan.tests[i].release_s = detection.points[i].release_s;
+    if (holds.empty()) {
+      for (size_t i = 0; i < plan.tests.size(); ++i) {
+        plan.tests[i].actuate_s = detection.points[i].actuate_s;
+        plan.tests[i].release_s = detection.points[i].release_s;
+      }
+      times_source = fmt::format("the motion (heads beyond {:.3f} mm)",
+                                 detection.threshold_mm);
+    } else {
+      const PressureLogAlignment alignment = AlignPressureLog(holds, detection);
+      for (size_t i = 0; i < plan.tests.size(); ++i) {
+        plan.tests[i].actuate_s = holds[i].start_s + alignment.offset_s;
+        plan.tests[i].release_s = holds[i].end_s + alignment.offset_s;
+      }
+      times_source = fmt::format(
+          "the pressure log {}, its clock {:+.3f} s from the video's (steps "
+          "in the motion within {:.3f} s of it)",
+          options.pressure_log_path, alignment.offset_s, alignment.spread_s);
     }
-    times_source = fmt::format("the motion (heads beyond {:.3f} mm)",
-                               detection.threshold_mm);
   }
   ValidationResult result = ScoreTests(plan, m, options.validation);
   result.times_source = times_source;

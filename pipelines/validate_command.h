@@ -16,6 +16,9 @@ struct ValidateCommandOptions {
   std::string video_path;
   std::string plan_path;
   std::string output_directory;
+  // Optional: the regulator's log (time_s, p1..pN in the plan's unit); its
+  // holds give the test points' times, aligned to the video by the motion.
+  std::string pressure_log_path;
   std::string constants_path;  // overrides the plan's
   std::string variant;         // overrides the plan's / constants file's
   // Without times in the plan: seconds at rest at the start of the video.

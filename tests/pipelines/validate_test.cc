@@ -245,6 +245,50 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
             std::string::npos);
 }
 
+TEST_F(ValidateCommandTest, AlignsAPressureLogWithAClockOffset) {
+  // The regulator's log of the delta sample on a clock 2.5 s behind the
+  // video's: a row at every change and every 0.2 s between.
+  const std::string samples = std::string(SOFTBENCH_SOURCE_DIR) + "/samples/";
+  const TestPlan rendered = LoadTestPlan(samples + "delta/rendered.plan.yaml");
+  constexpr double kOffset = 2.5;
+  std::string log = "time_s,p1,p2,p3\n-2,0,0,0\n";
+  for (const PlanTest& test : rendered.tests) {
+    const double actuate = *test.actuate_s - kOffset;
+    const double release = *test.release_s - kOffset;
+    for (double t = actuate; t < release; t += 0.2) {
+      log += fmt::format("{:.3f},{},{},{}\n", t, test.pressures[0],
+                         test.pressures[1], test.pressures[2]);
+    }
+    log += fmt::format("{:.3f},0,0,0\n", release);
+  }
+  ValidateCommandOptions options;
+  options.video_path = samples + "delta/delta.mp4";
+  options.plan_path = samples + "delta/plan.yaml";
+  options.pressure_log_path = Write("pressures.csv", log);
+  options.output_directory = Path("report");
+  options.quiet = true;
+  std::ostringstream out;
+  ASSERT_EQ(RunValidate(options, out), 0);
+  const std::string summary = Read(Path("report/summary.json"));
+  const size_t at = summary.find("its clock +");
+  ASSERT_NE(at, std::string::npos) << summary.substr(0, 600);
+  const double offset = std::stod(summary.substr(at + 11, 6));
+  EXPECT_NEAR(offset, kOffset, 1.0 / 30.0);  // within one frame
+  // The log's pressures that disagree with the plan are refused by name.
+  std::string wrong = log;
+  for (size_t at = 0; (at = wrong.find(",6,6,0", at)) != std::string::npos;) {
+    wrong.replace(at, 6, ",6,5,0");
+  }
+  options.pressure_log_path = Write("wrong.csv", wrong);
+  try {
+    RunValidate(options, out);
+    ADD_FAILURE() << "a log that disagrees with the plan was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("plan test 't1a'"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(ValidateCommandTest, RefusesAPlanWithSomeTimesAndWritesNothing) {
   ValidateCommandOptions options;
   options.video_path =
