@@ -645,7 +645,7 @@ json TestRmseChart(const FitRun& run) {
       {"spec",
        {{"width", 360},
         {"height", 200},
-        {"mark", {{"type", "boxplot"}, {"extent", 1.5}}},
+        {"mark", {{"type", "boxplot"}, {"extent", "min-max"}}},
         {"encoding",
          {{"x", {{"field", "model"}, {"type", "nominal"}}},
           {"y",

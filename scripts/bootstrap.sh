@@ -12,6 +12,7 @@ packages=(
   libopencv-dev libapriltag-dev
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   libgtest-dev libbenchmark-dev nlohmann-json3-dev
+  chromium  # the tests open every HTML report in it (report/check_in_chromium.sh)
 )
 # Node.js and npm install the report's plotting libraries (report/); any
 # Node.js >= 18 will do, so an existing one (e.g. NodeSource's) is kept.
