@@ -75,6 +75,10 @@ void HtmlReport::AddParagraph(const std::string& text) {
   body_ += "<p>" + Escape(text) + "</p>\n";
 }
 
+void HtmlReport::AddLink(const std::string& text, const std::string& href) {
+  body_ += "<p><a href=\"" + Escape(href) + "\">" + Escape(text) + "</a></p>\n";
+}
+
 void HtmlReport::AddTable(const std::vector<std::string>& header,
                           const std::vector<std::vector<std::string>>& rows) {
   body_ += "<table><tr>";
@@ -97,30 +101,33 @@ void HtmlReport::AddChart(const nlohmann::json& vega_lite) {
 }
 
 std::string HtmlReport::Render() const {
-  const std::filesystem::path assets(ReportAssetsDirectory());
+  // The plotting libraries and the charts, only for a page that has some.
   std::string scripts;
-  for (const char* library :
-       {"vega/build/vega.min.js", "vega-lite/build/vega-lite.min.js",
-        "vega-embed/build/vega-embed.min.js"}) {
-    const std::filesystem::path path = assets / library;
-    if (!std::filesystem::exists(path)) {
-      throw InputError(path.string() +
-                       ": the report's plotting library is missing; run "
-                       "scripts/bootstrap.sh (it installs report/ with npm) "
-                       "or set SOFTBENCH_REPORT_ASSETS");
+  if (!charts_.empty()) {
+    const std::filesystem::path assets(ReportAssetsDirectory());
+    for (const char* library :
+         {"vega/build/vega.min.js", "vega-lite/build/vega-lite.min.js",
+          "vega-embed/build/vega-embed.min.js"}) {
+      const std::filesystem::path path = assets / library;
+      if (!std::filesystem::exists(path)) {
+        throw InputError(path.string() +
+                         ": the report's plotting library is missing; run "
+                         "scripts/bootstrap.sh (it installs report/ with npm) "
+                         "or set SOFTBENCH_REPORT_ASSETS");
+      }
+      scripts += "<script>" +
+                 EscapeSlashAfter(ReadTextFile(path.string(), "report asset"),
+                                  "</script") +
+                 "</script>\n";
     }
-    scripts += "<script>" +
-               EscapeSlashAfter(ReadTextFile(path.string(), "report asset"),
-                                "</script") +
-               "</script>\n";
   }
-  std::string embed = "<script>\n";
+  std::string embed;
   for (size_t i = 0; i < charts_.size(); ++i) {
     embed += fmt::format(
-        "vegaEmbed('#chart{}', {}, {{actions: false, renderer: 'svg'}});\n", i,
-        EscapeSlashAfter(charts_[i].dump(), "</"));
+        "<script>vegaEmbed('#chart{}', {}, {{actions: false, renderer: "
+        "'svg'}});</script>\n",
+        i, EscapeSlashAfter(charts_[i].dump(), "</"));
   }
-  embed += "</script>\n";
   return fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
       "<title>{0}</title>\n<style>{1}</style>\n{2}</head>\n<body>\n"

@@ -18,12 +18,15 @@ class HtmlReport {
   void AddHeading(const std::string& text);
   // `text` is escaped; no markup.
   void AddParagraph(const std::string& text);
+  // A line with a link (relative `href`, escaped).
+  void AddLink(const std::string& text, const std::string& href);
   void AddTable(const std::vector<std::string>& header,
                 const std::vector<std::vector<std::string>>& rows);
   // A Vega-Lite specification (data inlined in it).
   void AddChart(const nlohmann::json& vega_lite);
 
-  // The page; throws InputError when the plotting libraries are missing.
+  // The page; throws InputError when it has charts and the plotting
+  // libraries are missing (a page without charts needs none).
   std::string Render() const;
 
  private:

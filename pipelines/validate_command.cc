@@ -4,6 +4,9 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "pipelines/html_report.h"
@@ -13,6 +16,8 @@
 #include "pipelines/test_point_detection.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
+#include "util/parallel_tasks.h"
+#include "util/progress.h"
 
 namespace softbench {
 namespace {
@@ -315,7 +320,12 @@ std::string ReportHtml(const TestPlan& plan, const VideoMeasurement& m,
 void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options) {
   CLI::App* c = app->add_subcommand(
       "validate", "Bench video and test plan to a model-validation report");
-  c->add_option("video", options->video_path, "bench video")->required();
+  c->add_option("videos", options->video_paths,
+                "bench video(s); several get one report each and an index")
+      ->required();
+  c->add_option("--jobs", options->jobs,
+                "videos measured at once (0: one per core)")
+      ->capture_default_str();
   c->add_option("--plan", options->plan_path, "test plan YAML")->required();
   c->add_option("--out", options->output_directory, "report directory")
       ->required();
@@ -365,10 +375,19 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
   return csv;
 }
 
-int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
-  if (const std::optional<std::string> problem = options.validation.Check()) {
-    throw InputError("validate: " + *problem);
-  }
+namespace {
+
+// One video's measurement and scores, with the plan's times as used.
+struct VideoValidation {
+  TestPlan plan;
+  VideoMeasurement measurement;
+  ValidationResult result;
+};
+
+// The plan (with the options' model) and the pressure log's holds, checked
+// against each other before any video work.
+TestPlan LoadValidationPlan(const ValidateCommandOptions& options,
+                            std::vector<PressureHold>* holds) {
   TestPlan plan = LoadTestPlan(options.plan_path);
   if (!options.constants_path.empty() || !options.variant.empty()) {
     plan.force_model = ResolveAxialShearModel(
@@ -378,43 +397,51 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
                                 : options.variant,
         nullptr);
   }
-  // The log's holds, checked against the plan's tests before any video work.
-  std::vector<PressureHold> holds;
-  if (!options.pressure_log_path.empty()) {
-    std::vector<double> times_s;
-    const std::vector<Eigen::VectorXd> rows = ReadPressureRows(
-        options.pressure_log_path, plan.mechanism.NumActuators(), &times_s);
-    holds = PressureLogHolds(times_s, rows, 1e-6);
-    if (holds.size() != plan.tests.size()) {
+  if (options.pressure_log_path.empty()) return plan;
+  std::vector<double> times_s;
+  const std::vector<Eigen::VectorXd> rows = ReadPressureRows(
+      options.pressure_log_path, plan.mechanism.NumActuators(), &times_s);
+  *holds = PressureLogHolds(times_s, rows, 1e-6);
+  if (holds->size() != plan.tests.size()) {
+    throw InputError(fmt::format(
+        "{}: the log holds {} sets of pressures but the plan lists {} "
+        "tests; give the plan one test per hold, in order",
+        options.pressure_log_path, holds->size(), plan.tests.size()));
+  }
+  for (size_t i = 0; i < holds->size(); ++i) {
+    const PressureHold& hold = (*holds)[i];
+    if ((hold.pressures - plan.tests[i].pressures).cwiseAbs().maxCoeff() >
+        1e-6) {
       throw InputError(fmt::format(
-          "{}: the log holds {} sets of pressures but the plan lists {} "
-          "tests; give the plan one test per hold, in order",
-          options.pressure_log_path, holds.size(), plan.tests.size()));
-    }
-    for (size_t i = 0; i < holds.size(); ++i) {
-      if ((holds[i].pressures - plan.tests[i].pressures).cwiseAbs().maxCoeff() >
-          1e-6) {
-        throw InputError(fmt::format(
-            "{}: hold {} (from t = {} s) is ({}) but plan test '{}' is ({}); "
-            "the plan's tests must follow the log's order",
-            options.pressure_log_path, i + 1, holds[i].start_s,
-            fmt::join(holds[i].pressures, ", "), plan.tests[i].id,
-            fmt::join(plan.tests[i].pressures, ", ")));
-      }
+          "{}: hold {} (from t = {} s) is ({}) but plan test '{}' is ({}); "
+          "the plan's tests must follow the log's order",
+          options.pressure_log_path, i + 1, hold.start_s,
+          fmt::join(hold.pressures, ", "), plan.tests[i].id,
+          fmt::join(plan.tests[i].pressures, ", ")));
     }
   }
+  return plan;
+}
+
+// Measures one video, finds its test points' times (plan, motion or log)
+// and scores them.
+VideoValidation ValidateVideo(TestPlan plan,
+                              const std::vector<PressureHold>& holds,
+                              const std::string& video_path,
+                              const ValidateCommandOptions& options,
+                              bool progress) {
   VideoMeasurementOptions measure;
-  measure.progress = !options.quiet;
+  measure.progress = progress;
   measure.rest_s = plan.HasTimes() && holds.empty()
                        ? *plan.tests.front().actuate_s
                        : options.rest_s;
-  const VideoMeasurement m = MeasureVideo(plan, options.video_path, measure);
+  VideoMeasurement m = MeasureVideo(plan, video_path, measure);
   std::string times_source = "the plan";
   if (!plan.HasTimes() || !holds.empty()) {
     const TestPointDetection detection = DetectTestPoints(
         m, static_cast<int>(plan.tests.size()), options.detection);
     if (!detection.found) {
-      throw InputError(options.video_path + ": " + detection.why_not);
+      throw InputError(video_path + ": " + detection.why_not);
     }
     if (holds.empty()) {
       for (size_t i = 0; i < plan.tests.size(); ++i) {
@@ -437,39 +464,151 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   }
   ValidationResult result = ScoreTests(plan, m, options.validation);
   result.times_source = times_source;
+  return {std::move(plan), std::move(m), std::move(result)};
+}
 
-  const std::string html = ReportHtml(plan, m, result);
-  AtomicDirectory report(options.output_directory);
-  WriteFileAtomically(report.File("report.html"), html);
-  WriteFileAtomically(report.File("results.csv"), ResultsCsv(plan, result));
-  WriteFileAtomically(report.File("summary.json"),
-                      SummaryJson(plan, m, result).dump(2) + "\n");
-  WriteFileAtomically(report.File("trajectory.csv"), TrajectoryCsv(plan, m));
-  report.Commit();
+// The four report files of one video into `directory`.
+void WriteValidationFiles(const VideoValidation& v,
+                          const std::filesystem::path& directory) {
+  std::filesystem::create_directories(directory);
+  WriteFileAtomically((directory / "report.html").string(),
+                      ReportHtml(v.plan, v.measurement, v.result));
+  WriteFileAtomically((directory / "results.csv").string(),
+                      ResultsCsv(v.plan, v.result));
+  WriteFileAtomically(
+      (directory / "summary.json").string(),
+      SummaryJson(v.plan, v.measurement, v.result).dump(2) + "\n");
+  WriteFileAtomically((directory / "trajectory.csv").string(),
+                      TrajectoryCsv(v.plan, v.measurement));
+}
 
-  for (const std::string& warning : result.warnings)
-    spdlog::warn("{}", warning);
-  if (m.distortion.warn) spdlog::warn("{}", m.distortion.message);
-  out << fmt::format(
-      "{}: {} test points (times from {}), {} measured\n", options.video_path,
-      result.tests.size(), result.times_source,
-      std::count_if(result.tests.begin(), result.tests.end(),
-                    [](const TestScore& t) { return t.measured; }));
-  for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
-    out << fmt::format(
+// What the command prints of one video.
+std::string SummaryText(const VideoValidation& v) {
+  const ValidationResult& r = v.result;
+  std::string text =
+      fmt::format("{}: {} test points (times from {}), {} measured\n",
+                  v.measurement.video_path, r.tests.size(), r.times_source,
+                  std::count_if(r.tests.begin(), r.tests.end(),
+                                [](const TestScore& t) { return t.measured; }));
+  for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
+    text += fmt::format(
         "  {}: model error mean {:.4f} mm (max {:.4f}), baseline {:.4f} mm "
         "(max {:.4f}): {:.0f} % better\n",
-        plan.mechanism.heads[h].name, result.model_errors[h].mean_mm,
-        result.model_errors[h].max_mm, result.baseline_errors[h].mean_mm,
-        result.baseline_errors[h].max_mm, result.improvement_percent[h]);
+        v.plan.mechanism.heads[h].name, r.model_errors[h].mean_mm,
+        r.model_errors[h].max_mm, r.baseline_errors[h].mean_mm,
+        r.baseline_errors[h].max_mm, r.improvement_percent[h]);
   }
-  out << fmt::format(
-      "  hysteresis above {} mm: {} ({})\n", plan.hysteresis_tolerance_mm,
-      result.hysteresis_flagged.empty()
+  text += fmt::format(
+      "  hysteresis above {} mm: {} ({})\n", v.plan.hysteresis_tolerance_mm,
+      r.hysteresis_flagged.empty()
           ? std::string("none")
-          : fmt::format("{}", fmt::join(result.hysteresis_flagged, ", ")),
-      result.hysteresis_cause);
-  out << fmt::format("report: {}/report.html\n", options.output_directory);
+          : fmt::format("{}", fmt::join(r.hysteresis_flagged, ", ")),
+      r.hysteresis_cause);
+  return text;
+}
+
+// index.html and index.csv of several videos' reports.
+void WriteIndex(const std::vector<VideoValidation>& videos,
+                const std::vector<std::string>& names,
+                const AtomicDirectory& report) {
+  HtmlReport index("Validation of " + std::to_string(videos.size()) +
+                   " videos");
+  std::string csv =
+      "video,report,head,tests_measured,model_mean_mm,model_max_mm,"
+      "baseline_mean_mm,improvement_percent,hysteresis_flagged\n";
+  std::vector<std::vector<std::string>> rows;
+  for (size_t i = 0; i < videos.size(); ++i) {
+    const VideoValidation& v = videos[i];
+    const ValidationResult& r = v.result;
+    index.AddLink(v.measurement.video_path, names[i] + "/report.html");
+    for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
+      const std::string flagged =
+          fmt::format("{}", fmt::join(r.hysteresis_flagged, " "));
+      csv += fmt::format(
+          "{},{}/report.html,{},{},{:.5f},{:.5f},{:.5f},{:.1f},{}\n",
+          v.measurement.video_path, names[i], v.plan.mechanism.heads[h].name,
+          r.model_errors[h].tests, r.model_errors[h].mean_mm,
+          r.model_errors[h].max_mm, r.baseline_errors[h].mean_mm,
+          r.improvement_percent[h], flagged);
+      rows.push_back({names[i], v.plan.mechanism.heads[h].name,
+                      std::to_string(r.model_errors[h].tests),
+                      Mm(r.model_errors[h].mean_mm),
+                      Mm(r.model_errors[h].max_mm),
+                      Mm(r.baseline_errors[h].mean_mm),
+                      fmt::format("{:.0f} %", r.improvement_percent[h]),
+                      flagged.empty() ? "none" : flagged});
+    }
+  }
+  index.AddTable({"video", "head", "tests", "model mean [mm]", "model max",
+                  "baseline mean", "improvement", "hysteresis flagged"},
+                 rows);
+  WriteFileAtomically(report.File("index.html"), index.Render());
+  WriteFileAtomically(report.File("index.csv"), csv);
+}
+
+}  // namespace
+
+int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
+  if (const std::optional<std::string> problem = options.validation.Check()) {
+    throw InputError("validate: " + *problem);
+  }
+  if (options.video_paths.empty()) throw InputError("validate: give a video");
+  if (options.jobs < 0) throw InputError("--jobs: must be >= 0");
+  std::vector<PressureHold> holds;
+  const TestPlan plan = LoadValidationPlan(options, &holds);
+  const int count = static_cast<int>(options.video_paths.size());
+  std::vector<VideoValidation> videos(count);
+  if (count == 1) {
+    videos[0] = ValidateVideo(plan, holds, options.video_paths[0], options,
+                              !options.quiet);
+  } else {
+    // Videos in parallel; one bar for all of them.
+    std::atomic<int> done{0};
+    ProgressBar progress("videos", count, !options.quiet);
+    RunParallelTasks(
+        count, options.jobs,
+        [&](int i) {
+          videos[i] = ValidateVideo(plan, holds, options.video_paths[i],
+                                    options, false);
+          ++done;
+        },
+        [&] { progress.Update(done); });
+    progress.Finish();
+  }
+
+  AtomicDirectory report(options.output_directory);
+  if (count == 1) {
+    WriteValidationFiles(videos[0], report.File(""));
+  } else {
+    // One folder per video, named after the file (made unique).
+    std::vector<std::string> names;
+    for (const std::string& path : options.video_paths) {
+      std::string name = std::filesystem::path(path).stem().string();
+      const std::string base = name;
+      for (int k = 2;
+           std::find(names.begin(), names.end(), name) != names.end(); ++k) {
+        name = base + "_" + std::to_string(k);
+      }
+      names.push_back(name);
+    }
+    for (int i = 0; i < count; ++i) {
+      WriteValidationFiles(videos[i], report.File(names[i]));
+    }
+    WriteIndex(videos, names, report);
+  }
+  report.Commit();
+
+  for (const VideoValidation& v : videos) {
+    for (const std::string& warning : v.result.warnings) {
+      spdlog::warn("{}: {}", v.measurement.video_path, warning);
+    }
+    if (v.measurement.distortion.warn) {
+      spdlog::warn("{}", v.measurement.distortion.message);
+    }
+    out << SummaryText(v);
+  }
+  out << fmt::format("report: {}/{}\n", options.output_directory,
+                     count == 1 ? "report.html" : "index.html");
   return 0;
 }
 

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "pipelines/test_point_detection.h"
 #include "pipelines/validation.h"
@@ -13,7 +14,8 @@ namespace softbench {
 // `softbench validate`: a bench video and its test plan in, the thesis's
 // per-test-point validation (figs. 4.8, 4.9, 4.16, 4.17) out.
 struct ValidateCommandOptions {
-  std::string video_path;
+  std::vector<std::string> video_paths;
+  int jobs = 1;  // videos measured at once (0: one per core)
   std::string plan_path;
   std::string output_directory;
   // Optional: the regulator's log (time_s, p1..pN in the plan's unit); its

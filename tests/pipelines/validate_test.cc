@@ -218,7 +218,7 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
   RunRender(render, out);
 
   ValidateCommandOptions options;
-  options.video_path = render.output_path;
+  options.video_paths = {render.output_path};
   options.plan_path = render.plan_out_path;
   options.output_directory = Path("report");
   options.quiet = true;
@@ -262,7 +262,7 @@ TEST_F(ValidateCommandTest, AlignsAPressureLogWithAClockOffset) {
     log += fmt::format("{:.3f},0,0,0\n", release);
   }
   ValidateCommandOptions options;
-  options.video_path = samples + "delta/delta.mp4";
+  options.video_paths = {samples + "delta/delta.mp4"};
   options.plan_path = samples + "delta/plan.yaml";
   options.pressure_log_path = Write("pressures.csv", log);
   options.output_directory = Path("report");
@@ -289,10 +289,41 @@ TEST_F(ValidateCommandTest, AlignsAPressureLogWithAClockOffset) {
   }
 }
 
+TEST_F(ValidateCommandTest, SeveralVideosGetOneReportEachAndAnIndex) {
+  const std::string samples = std::string(SOFTBENCH_SOURCE_DIR) + "/samples/";
+  ValidateCommandOptions options;
+  options.video_paths = {samples + "delta/delta.mp4",
+                         samples + "delta/delta.mp4"};
+  options.plan_path = samples + "delta/plan.yaml";
+  options.output_directory = Path("reports");
+  options.jobs = 2;
+  options.quiet = true;
+  std::ostringstream out;
+  ASSERT_EQ(RunValidate(options, out), 0);
+  for (const char* name : {"delta", "delta_2"}) {
+    for (const char* file :
+         {"report.html", "results.csv", "summary.json", "trajectory.csv"}) {
+      EXPECT_TRUE(fs::exists(Path("reports/") + name + "/" + file))
+          << name << "/" << file;
+    }
+  }
+  // Both measurements are of the same file: identical results.
+  EXPECT_EQ(Read(Path("reports/delta/results.csv")),
+            Read(Path("reports/delta_2/results.csv")));
+  const std::string index = Read(Path("reports/index.csv"));
+  EXPECT_EQ(std::count(index.begin(), index.end(), '\n'), 3) << index;
+  EXPECT_NE(
+      Read(Path("reports/index.html")).find("href=\"delta_2/report.html\""),
+      std::string::npos);
+  EXPECT_NE(out.str().find("report: " + Path("reports") + "/index.html"),
+            std::string::npos)
+      << out.str();
+}
+
 TEST_F(ValidateCommandTest, RefusesAPlanWithSomeTimesAndWritesNothing) {
   ValidateCommandOptions options;
-  options.video_path =
-      std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/delta.mp4";
+  options.video_paths = {std::string(SOFTBENCH_SOURCE_DIR) +
+                         "/samples/delta/delta.mp4"};
   std::string plan =
       Read(std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/plan.yaml");
   plan.replace(plan.find("pressures: [6, 6, 0]}"), 21,
