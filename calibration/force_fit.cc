@@ -154,6 +154,20 @@ TestDesign DesignOfTest(const ForceModel& model, double delta_length_mm,
   return design;
 }
 
+ResidualMoments ResidualsOf(const ForceMoments& moments,
+                            const TestDesign& design, int direction,
+                            const Eigen::Vector4d& constants) {
+  const double alpha = design.u.row(direction).dot(constants);
+  const double beta = design.v.row(direction).dot(constants);
+  const Eigen::Matrix3d& c = moments.comoment;
+  const int f = 1 + direction;
+  ResidualMoments residuals;
+  residuals.mean_n = moments.mean[f] - alpha * moments.mean[0] - beta;
+  residuals.scatter_n2 =
+      std::max(0.0, c(f, f) - 2.0 * alpha * c(0, f) + alpha * alpha * c(0, 0));
+  return residuals;
+}
+
 void EvaluateFit(const ForceModel& model, const std::vector<ForceTest>& tests,
                  ForceFitSummary* summary) {
   const Eigen::Vector4d c = ConstantsVector(model.constants);
@@ -169,15 +183,7 @@ void EvaluateFit(const ForceModel& model, const std::vector<ForceTest>& tests,
     all.Merge(m);
     std::array<double, 2> test_rmse = {0.0, 0.0};
     for (int d = 0; d < 2; ++d) {
-      // Residual r = F - alpha P - beta is affine in (P, F): its sum of
-      // squares follows from the centred moments exactly.
-      const double alpha = design.u.row(d).dot(c);
-      const double beta = design.v.row(d).dot(c);
-      const double mean_r = m.mean[1 + d] - alpha * m.mean[0] - beta;
-      const double ss = std::max(0.0, m.comoment(1 + d, 1 + d) -
-                                          2.0 * alpha * m.comoment(0, 1 + d) +
-                                          alpha * alpha * m.comoment(0, 0)) +
-                        static_cast<double>(m.count) * mean_r * mean_r;
+      const double ss = ResidualsOf(m, design, d, c).SumOfSquares(m.count);
       residual_sum[d] += ss;
       test_rmse[d] = m.count > 0 ? std::sqrt(ss / m.count) : NAN;
     }

@@ -101,6 +101,22 @@ struct TestDesign {
 TestDesign DesignOfTest(const ForceModel& model, double delta_length_mm,
                         double theta_rad);
 
+// The residuals F - model of a group of rows of one test, in direction d,
+// exactly from the group's moments: the residual is affine in (P, F) within
+// a test, r = F - (P u_d + v_d) . c.
+struct ResidualMoments {
+  double mean_n = 0.0;
+  // Sum over the rows of (r - mean)^2 [N^2].
+  double scatter_n2 = 0.0;
+  // Sum over the rows of r^2 [N^2].
+  double SumOfSquares(int64_t count) const {
+    return scatter_n2 + static_cast<double>(count) * mean_n * mean_n;
+  }
+};
+ResidualMoments ResidualsOf(const ForceMoments& moments,
+                            const TestDesign& design, int direction,
+                            const Eigen::Vector4d& constants);
+
 // Fits `fit_model` to the tests' statistics (and, for robust or row-wise
 // fits, to `rows`). Never throws for bad data: an unidentifiable or
 // ill-conditioned problem comes back with ok = false and why_not.

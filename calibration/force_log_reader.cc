@@ -91,6 +91,14 @@ class LogRowParser {
     }
     last_time_s_ = time_s;
   }
+  // Keeps the row last read when it is the n-th of its test (`count`
+  // rows so far) for the row-wise fit.
+  void KeepRow(int64_t count, int test, std::vector<ForceRow>* kept) const {
+    if (kept != nullptr && options_.keep_every_nth_row > 0 &&
+        count % options_.keep_every_nth_row == 0) {
+      kept->push_back({pressure_mpa, axial_n, shear_n, test});
+    }
+  }
   // A new test starts (combined logs): time may start again.
   void RestartTime() { last_time_s_ = -INFINITY; }
 
@@ -209,11 +217,7 @@ void ReadForceTestCsv(const std::string& path, const ForceLogColumns& columns,
       if (row != LogRowParser::Row::kValid) continue;
       parser.CheckTimeOrder();
       accumulator.Add(parser.pressure_mpa, parser.axial_n, parser.shear_n);
-      if (kept_rows != nullptr && options.keep_every_nth_row > 0 &&
-          accumulator.count() % options.keep_every_nth_row == 0) {
-        kept_rows->push_back(
-            {parser.pressure_mpa, parser.axial_n, parser.shear_n, test_index});
-      }
+      parser.KeepRow(accumulator.count(), test_index, kept_rows);
     }
   }
   test->source = path;
@@ -312,11 +316,8 @@ std::vector<ForceTest> ReadCombinedForceLog(const std::string& path,
     if (row != LogRowParser::Row::kValid) continue;
     parser.CheckTimeOrder();
     accumulator->Add(parser.pressure_mpa, parser.axial_n, parser.shear_n);
-    if (kept_rows != nullptr && options.keep_every_nth_row > 0 &&
-        accumulator->count() % options.keep_every_nth_row == 0) {
-      kept_rows->push_back({parser.pressure_mpa, parser.axial_n, parser.shear_n,
-                            static_cast<int>(tests.size()) - 1});
-    }
+    parser.KeepRow(accumulator->count(), static_cast<int>(tests.size()) - 1,
+                   kept_rows);
   }
   finish();
   if (tests.empty()) {

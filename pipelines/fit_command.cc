@@ -8,7 +8,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <thread>
 
 #include "calibration/constants_file.h"
 #include "pipelines/force_log_manifest.h"
@@ -173,23 +172,16 @@ FitRun RunFitAnalysis(const FitCommandOptions& options) {
   std::atomic<int64_t> bytes_done{0};
   ProgressBar progress("reading", total_bytes, !options.quiet);
   if (combined) {
-    std::exception_ptr failure;
-    std::thread reader([&] {
-      try {
-        run.tests =
-            ReadCombinedForceLog(manifest.combined_path, manifest.columns,
-                                 read_options, &run.read, &rows, &bytes_done);
-      } catch (...) {
-        failure = std::current_exception();
-      }
-      bytes_done = total_bytes;
-    });
-    while (bytes_done < total_bytes) {
-      progress.Update(bytes_done);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    reader.join();
-    if (failure) std::rethrow_exception(failure);
+    // One task (a combined log is read in order), on a worker so that this
+    // thread can draw the progress bar.
+    RunParallelTasks(
+        1, 1,
+        [&](int) {
+          run.tests =
+              ReadCombinedForceLog(manifest.combined_path, manifest.columns,
+                                   read_options, &run.read, &rows, &bytes_done);
+        },
+        [&] { progress.Update(bytes_done); });
   } else {
     // One test per task, each with its own summary and kept rows.
     run.tests = manifest.tests;

@@ -20,11 +20,6 @@ constexpr std::array<const char*, 2> kDirectionNames = {"axial", "shear"};
 constexpr std::array<const char*, kNumFitConstants> kConstantUnits = {
     "mm2", "mm2_per_rad", "n_per_mm", "n_per_rad"};
 
-// A number for JSON: NaN and inf become null.
-json Number(double value) {
-  return std::isfinite(value) ? json(value) : json();
-}
-
 std::string ConfigurationName(double delta_length_mm, double theta_rad) {
   return fmt::format("dL {:+g} mm, theta {:g} deg", delta_length_mm,
                      std::round(RadToDeg(theta_rad) * 100.0) / 100.0);
@@ -220,14 +215,14 @@ json FitJson(const FitRun& run) {
     model["ok"] = fit.ok;
     model["why_not"] = fit.why_not;
     model["method"] = fit.method;
-    model["condition_number"] = Number(fit.condition_number);
+    model["condition_number"] = JsonNumber(fit.condition_number);
     model["at_bounds"] = fit.at_bounds;
     if (fit.ok) {
       const Eigen::Vector4d values = ConstantsVector(fit.constants);
       for (int i = 0; i < kNumFitConstants; ++i) {
         model["constants"][kFitConstantNames[i]] = {
             {"value", values[i]},
-            {"standard_error", Number(fit.standard_errors[i])},
+            {"standard_error", JsonNumber(fit.standard_errors[i])},
             {"unit", kConstantUnits[i]}};
       }
       model["natural_length_mm"] = fit.constants.natural_length_mm;
@@ -558,18 +553,12 @@ json ResidualChart(const FitRun& run, const std::vector<BinRow>& bins) {
       const ForceMoments& mo = bin.moments;
       const double n = static_cast<double>(mo.count);
       for (int d = 0; d < 2; ++d) {
-        const double alpha = design.u.row(d).dot(c);
-        const double beta = design.v.row(d).dot(c);
-        const double mean = mo.mean[1 + d] - alpha * mo.mean[0] - beta;
-        const double scatter =
-            std::max(0.0, mo.comoment(1 + d, 1 + d) -
-                              2.0 * alpha * mo.comoment(0, 1 + d) +
-                              alpha * alpha * mo.comoment(0, 0));
+        const ResidualMoments r = ResidualsOf(mo, design, d, c);
         Pool& pool = pools[d][{TestConfigurationName(test), bin.bin}];
         pool.rows += n;
         pool.pressure += n * mo.mean[0];
-        pool.sum += n * mean;
-        pool.sum_squares += scatter + n * mean * mean;
+        pool.sum += n * r.mean_n;
+        pool.sum_squares += r.SumOfSquares(mo.count);
       }
     }
     for (int d = 0; d < 2; ++d) {

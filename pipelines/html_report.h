@@ -1,6 +1,7 @@
 #ifndef SOFTBENCH_PIPELINES_HTML_REPORT_H_
 #define SOFTBENCH_PIPELINES_HTML_REPORT_H_
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -34,6 +35,11 @@ class HtmlReport {
   std::string body_;
   std::vector<nlohmann::json> charts_;
 };
+
+// A number for a report's JSON: NaN and inf (not representable) become null.
+inline nlohmann::json JsonNumber(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json();
+}
 
 // Where the plotting libraries are: $SOFTBENCH_REPORT_ASSETS, else the
 // source tree's report/node_modules.

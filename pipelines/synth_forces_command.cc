@@ -20,10 +20,12 @@ namespace {
 
 constexpr const char* kHeader = "time_s,{},fx_n,fy_n,fz_n,tx_nm,ty_nm,tz_nm\n";
 
-// Appends one row in the sensor's export format: micro-second times, the
-// pressure sensor's and the Mini40's resolution.
-void AppendRow(const SyntheticRow& row, double units_per_mpa,
-               std::string* out) {
+// Appends one row in the sensor's export format (micro-second times, the
+// pressure sensor's and the Mini40's resolution) after `prefix` (a combined
+// log's configuration columns, or nothing).
+void AppendRow(std::string_view prefix, const SyntheticRow& row,
+               double units_per_mpa, std::string* out) {
+  out->append(prefix);
   fmt::format_to(std::back_inserter(*out),
                  FMT_COMPILE("{:.6f},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},{:.5f},"
                              "{:.5f}\n"),
@@ -127,9 +129,9 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
 
   ProgressBar progress("synth-forces", total_rows, !options.quiet);
   std::atomic<int64_t> rows_done{0};
-  const auto generate = [&](int t, std::string* text) {
+  const auto generate = [&](int t, std::string_view prefix, std::string* text) {
     GenerateSyntheticTest(synthetic, tests[t], t, [&](const SyntheticRow& row) {
-      AppendRow(row, units_per_mpa, text);
+      AppendRow(prefix, row, units_per_mpa, text);
     });
     rows_done += tests[t].rows;
   };
@@ -142,21 +144,13 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
         "measured_theta_deg," +
         header);
     for (int t = 0; t < static_cast<int>(tests.size()); ++t) {
-      std::string rows;
-      generate(t, &rows);
       const std::string prefix =
           fmt::format("{},{:.6g},{:.6g},{:.4f},{:.4f},", tests[t].id,
                       tests[t].nominal_delta_length_mm,
                       RadToDeg(tests[t].nominal_theta_rad),
                       tests[t].delta_length_mm, RadToDeg(tests[t].theta_rad));
       std::string text;
-      text.reserve(rows.size() + (prefix.size() * tests[t].rows));
-      for (size_t begin = 0; begin < rows.size();) {
-        const size_t end = rows.find('\n', begin) + 1;
-        text += prefix;
-        text.append(rows, begin, end - begin);
-        begin = end;
-      }
+      generate(t, prefix, &text);
       writer.Append(text);
       progress.Update(rows_done);
     }
@@ -168,7 +162,7 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
         static_cast<int>(tests.size()), options.threads,
         [&](int t) {
           std::string text = header;
-          generate(t, &text);
+          generate(t, "", &text);
           WriteFileAtomically((directory / manifest.files[t]).string(), text);
         },
         [&] { progress.Update(rows_done); });

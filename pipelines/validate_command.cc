@@ -24,10 +24,6 @@ namespace {
 
 using nlohmann::json;
 
-json Number(double value) {
-  return std::isfinite(value) ? json(value) : json();
-}
-
 std::string Mm(double value) {
   return std::isfinite(value) ? fmt::format("{:.4f}", value) : "";
 }
@@ -51,15 +47,15 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     const auto stats = [](const ErrorStatistics& s) {
       return json{{"tests", s.tests},
-                  {"mean_mm", Number(s.mean_mm)},
-                  {"max_mm", Number(s.max_mm)},
-                  {"rms_mm", Number(s.rms_mm)}};
+                  {"mean_mm", JsonNumber(s.mean_mm)},
+                  {"max_mm", JsonNumber(s.max_mm)},
+                  {"rms_mm", JsonNumber(s.rms_mm)}};
     };
     root["heads"].push_back(
         {{"head", plan.mechanism.heads[h].name},
          {"model_error", stats(r.model_errors[h])},
          {"baseline_error", stats(r.baseline_errors[h])},
-         {"improvement_percent", Number(r.improvement_percent[h])}});
+         {"improvement_percent", JsonNumber(r.improvement_percent[h])}});
   }
   for (const RepeatAgreement& group : r.repeats) {
     root["repeats"].push_back({{"tests", group.test_ids},
@@ -79,9 +75,10 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
         window["heads"].push_back(
             {{"frames", w.head_frames[h]},
              {"median_mm",
-              {Number(w.median_mm[h].x()), Number(w.median_mm[h].y())}},
+              {JsonNumber(w.median_mm[h].x()), JsonNumber(w.median_mm[h].y())}},
              {"spread_mm",
-              {Number(w.spread_mm[h].x()), Number(w.spread_mm[h].y())}}});
+              {JsonNumber(w.spread_mm[h].x()),
+               JsonNumber(w.spread_mm[h].y())}}});
       }
       test["windows"][kWindowNames[k]] = window;
     }

@@ -120,10 +120,17 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   window->median_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   window->spread_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   std::vector<std::array<std::vector<double>, 2>> values(num_heads);
-  for (const FrameSample& frame : measurement.frames) {
-    if (frame.time_s < window->start_s || frame.time_s >= window->end_s) {
-      continue;
-    }
+  // Frames are in time order: only the window's own are visited.
+  const auto by_time = [](const FrameSample& frame, double time_s) {
+    return frame.time_s < time_s;
+  };
+  const auto begin =
+      std::lower_bound(measurement.frames.begin(), measurement.frames.end(),
+                       window->start_s, by_time);
+  const auto end =
+      std::lower_bound(begin, measurement.frames.end(), window->end_s, by_time);
+  for (auto it = begin; it != end; ++it) {
+    const FrameSample& frame = *it;
     ++window->frames;
     for (int h = 0; h < num_heads; ++h) {
       const HeadSample& head = frame.heads[h];
