@@ -5,6 +5,10 @@
 #include <cstdlib>
 #include <filesystem>
 
+extern "C" {
+#include <libavutil/base64.h>
+}
+
 #include "util/input_error.h"
 #include "util/text_file.h"
 
@@ -54,6 +58,9 @@ table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th { background: #f3f3f3; } td:first-child, th:first-child { text-align: left; }
 .chart { margin: 1em 0; }
+.figures { display: flex; flex-wrap: wrap; gap: 0.8em; margin: 0.5em 0; }
+figure { margin: 0; } figcaption { font-size: 0.8em; max-width: 300px; }
+figure svg { width: 300px; height: auto; background: #000; }
 )";
 
 }  // namespace
@@ -98,6 +105,24 @@ void HtmlReport::AddChart(const nlohmann::json& vega_lite) {
   body_ += fmt::format("<div class=\"chart\" id=\"chart{}\"></div>\n",
                        charts_.size());
   charts_.push_back(vega_lite);
+}
+
+void HtmlReport::AddFigures(const std::vector<Figure>& figures) {
+  body_ += "<div class=\"figures\">\n";
+  for (const Figure& figure : figures) {
+    body_ += "<figure>" + figure.svg + "<figcaption>" + Escape(figure.caption) +
+             "</figcaption></figure>\n";
+  }
+  body_ += "</div>\n";
+}
+
+std::string DataUri(const std::string& mime,
+                    const std::vector<uint8_t>& bytes) {
+  std::string encoded(AV_BASE64_SIZE(bytes.size()), '\0');
+  av_base64_encode(encoded.data(), static_cast<int>(encoded.size()),
+                   bytes.data(), static_cast<int>(bytes.size()));
+  encoded.resize(encoded.find('\0'));
+  return "data:" + mime + ";base64," + encoded;
 }
 
 std::string HtmlReport::Render() const {

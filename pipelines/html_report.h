@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_HTML_REPORT_H_
 
 #include <cmath>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -25,6 +26,13 @@ class HtmlReport {
                 const std::vector<std::vector<std::string>>& rows);
   // A Vega-Lite specification (data inlined in it).
   void AddChart(const nlohmann::json& vega_lite);
+  // A row of pictures, each an SVG element the caller built (images in it
+  // inlined with DataUri) above its caption (escaped).
+  struct Figure {
+    std::string svg;
+    std::string caption;
+  };
+  void AddFigures(const std::vector<Figure>& figures);
 
   // The page; throws InputError when it has charts and the plotting
   // libraries are missing (a page without charts needs none).
@@ -35,6 +43,10 @@ class HtmlReport {
   std::string body_;
   std::vector<nlohmann::json> charts_;
 };
+
+// `bytes` (of type `mime`, e.g. "image/jpeg") as a data: URI, for pictures
+// inside a self-contained page.
+std::string DataUri(const std::string& mime, const std::vector<uint8_t>& bytes);
 
 // A number for a report's JSON: NaN and inf (not representable) become null.
 inline nlohmann::json JsonNumber(double value) {

@@ -8,25 +8,24 @@
 #include <atomic>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "pipelines/html_report.h"
 #include "pipelines/model_selection.h"
 #include "pipelines/pressure_csv.h"
 #include "pipelines/pressure_log.h"
 #include "pipelines/test_point_detection.h"
+#include "pipelines/validation_report.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
 #include "util/parallel_tasks.h"
 #include "util/progress.h"
+#include "vision/video_reader.h"
 
 namespace softbench {
 namespace {
 
 using nlohmann::json;
-
-std::string Mm(double value) {
-  return std::isfinite(value) ? fmt::format("{:.4f}", value) : "";
-}
 
 json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
                  const ValidationResult& r) {
@@ -37,11 +36,14 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
   root["model"] = r.model_name;
   root["times_source"] = r.times_source;
   root["baseline"] = r.baseline_name;
-  root["calibration"] = {{"scale_source", m.scale_source},
-                         {"mm_per_px", m.mm_per_px},
-                         {"distortion_check", m.distortion.message},
-                         {"distortion_warning", m.distortion.warn}};
+  root["calibration"] = {
+      {"scale_source", m.scale_source},
+      {"mm_per_px", m.mm_per_px},
+      {"tilt_deg", m.mapping->TiltRad() * 180.0 / std::numbers::pi},
+      {"distortion_check", m.distortion.message},
+      {"distortion_warning", m.distortion.warn}};
   root["frames"] = m.frames.size();
+  root["every_frame"] = m.every_frame;
   root["missing_dots"] = m.missing_dots;
   root["full_frame_frames"] = m.full_frame_frames;
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
@@ -87,231 +89,6 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
   return root;
 }
 
-// Fig. 4.8 / 4.16: measured and predicted displacements per test, with lines
-// from each measurement to its predictions.
-json PositionChart(const TestPlan& plan, const ValidationResult& r) {
-  json values = json::array();
-  for (const TestScore& t : r.tests) {
-    for (size_t h = 0; h < t.heads.size(); ++h) {
-      const HeadScore& s = t.heads[h];
-      const std::string head = plan.mechanism.heads[h].name;
-      const auto point = [&](const std::string& series,
-                             const Eigen::Vector2d& p,
-                             const std::string& pair) {
-        if (!p.allFinite()) return;
-        values.push_back({{"test", t.id},
-                          {"head", head},
-                          {"series", series},
-                          {"y", p.x()},
-                          {"z", p.y()},
-                          {"pair", pair}});
-      };
-      point("measured", s.measured_mm, "");
-      point(r.model_name, s.model_mm, "");
-      point(r.baseline_name, s.baseline_mm, "");
-      // Error lines: measured to model, measured to baseline.
-      point("error line", s.measured_mm, t.id + "/model");
-      point("error line", s.model_mm, t.id + "/model");
-      point("error line", s.measured_mm, t.id + "/baseline");
-      point("error line", s.baseline_mm, t.id + "/baseline");
-    }
-  }
-  const json x = {
-      {"field", "y"}, {"type", "quantitative"}, {"title", "y [mm]"}};
-  const json y = {
-      {"field", "z"}, {"type", "quantitative"}, {"title", "z [mm]"}};
-  return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
-      {"title", "Measured and predicted displacements (figs. 4.8, 4.16)"},
-      {"data", {{"values", values}}},
-      {"facet", {{"field", "head"}, {"type", "nominal"}}},
-      {"spec",
-       {{"width", 420},
-        {"height", 380},
-        {"layer",
-         {{{"transform", {{{"filter", "datum.series == 'error line'"}}}},
-           {"mark", {{"type", "line"}, {"color", "#bbb"}, {"strokeWidth", 1}}},
-           {"encoding", {{"x", x}, {"y", y}, {"detail", {{"field", "pair"}}}}}},
-          {{"transform", {{{"filter", "datum.series != 'error line'"}}}},
-           {"mark", {{"type", "point"}, {"filled", true}, {"size", 50}}},
-           {"encoding",
-            {{"x", x},
-             {"y", y},
-             {"color", {{"field", "series"}, {"type", "nominal"}}},
-             {"shape", {{"field", "series"}, {"type", "nominal"}}},
-             {"tooltip",
-              {{{"field", "test"}},
-               {{"field", "series"}},
-               {{"field", "y"}},
-               {{"field", "z"}}}}}}}}}}}};
-}
-
-// Fig. 4.9 / 4.17: error magnitude per test for both models.
-json ErrorChart(const TestPlan& plan, const ValidationResult& r) {
-  json values = json::array();
-  for (const TestScore& t : r.tests) {
-    for (size_t h = 0; h < t.heads.size(); ++h) {
-      for (const auto& [name, error] :
-           {std::pair{r.model_name, t.heads[h].model_error_mm},
-            std::pair{r.baseline_name, t.heads[h].baseline_error_mm}}) {
-        if (!std::isfinite(error)) continue;
-        values.push_back({{"test", t.id},
-                          {"head", plan.mechanism.heads[h].name},
-                          {"model", name},
-                          {"error", error}});
-      }
-    }
-  }
-  return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
-      {"title", "Position error per test point (figs. 4.9, 4.17)"},
-      {"data", {{"values", values}}},
-      {"facet", {{"field", "head"}, {"type", "nominal"}}},
-      {"spec",
-       {{"width", 420},
-        {"height", 220},
-        {"mark", "bar"},
-        {"encoding",
-         {{"x", {{"field", "test"}, {"type", "nominal"}, {"sort", nullptr}}},
-          {"xOffset", {{"field", "model"}}},
-          {"y",
-           {{"field", "error"},
-            {"type", "quantitative"},
-            {"title", "|measured - predicted| [mm]"}}},
-          {"color", {{"field", "model"}, {"type", "nominal"}}},
-          {"tooltip",
-           {{{"field", "test"}},
-            {{"field", "model"}},
-            {{"field", "error"}}}}}}}}};
-}
-
-// The trajectory of every head over time, with the windows shaded.
-json TrajectoryChart(const TestPlan& plan, const VideoMeasurement& m,
-                     const ValidationResult& r) {
-  json values = json::array();
-  for (const FrameSample& f : m.frames) {
-    for (size_t h = 0; h < f.heads.size(); ++h) {
-      const Eigen::Vector2d& d = f.heads[h].displacement_mm;
-      if (!d.allFinite()) continue;
-      const std::string head = plan.mechanism.heads[h].name;
-      values.push_back({{"t", f.time_s}, {"axis", head + " y"}, {"mm", d.x()}});
-      values.push_back({{"t", f.time_s}, {"axis", head + " z"}, {"mm", d.y()}});
-    }
-  }
-  json windows = json::array();
-  for (const TestScore& t : r.tests) {
-    for (int k = 0; k < 3; ++k) {
-      windows.push_back({{"start", t.windows[k].start_s},
-                         {"end", t.windows[k].end_s},
-                         {"window", kWindowNames[k]},
-                         {"test", t.id}});
-    }
-  }
-  return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
-      {"title", "Head displacements over time; windows shaded"},
-      {"width", 1000},
-      {"height", 260},
-      {"layer",
-       {{{"data", {{"values", windows}}},
-         {"mark", {{"type", "rect"}, {"opacity", 0.25}}},
-         {"encoding",
-          {{"x", {{"field", "start"}, {"type", "quantitative"}}},
-           {"x2", {{"field", "end"}}},
-           {"color",
-            {{"field", "window"},
-             {"type", "nominal"},
-             {"scale", {{"range", {"#4c78a8", "#f58518", "#54a24b"}}}}}},
-           {"tooltip", {{{"field", "test"}}, {{"field", "window"}}}}}}},
-        {{"data", {{"values", values}}},
-         {"mark", {{"type", "line"}, {"strokeWidth", 1}}},
-         {"encoding",
-          {{"x",
-            {{"field", "t"}, {"type", "quantitative"}, {"title", "time [s]"}}},
-           {"y",
-            {{"field", "mm"},
-             {"type", "quantitative"},
-             {"title", "displacement [mm]"}}},
-           {"stroke", {{"field", "axis"}, {"type", "nominal"}}}}}}}},
-      {"resolve", {{"scale", {{"color", "independent"}}}}}};
-}
-
-std::string ReportHtml(const TestPlan& plan, const VideoMeasurement& m,
-                       const ValidationResult& r) {
-  HtmlReport report("Validation: " + m.video_path);
-  report.AddParagraph(fmt::format(
-      "{} mechanism, plan {}, {} test points (times from {}); model {} "
-      "against the baseline {}.",
-      plan.mechanism.name, plan.path, r.tests.size(), r.times_source,
-      r.model_name, r.baseline_name));
-  for (const std::string& warning : r.warnings) {
-    report.AddParagraph("Warning: " + warning);
-  }
-  report.AddHeading("Summary");
-  std::vector<std::vector<std::string>> rows;
-  for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
-    const ErrorStatistics& a = r.model_errors[h];
-    const ErrorStatistics& b = r.baseline_errors[h];
-    rows.push_back({plan.mechanism.heads[h].name, std::to_string(a.tests),
-                    Mm(a.mean_mm), Mm(a.max_mm), Mm(a.rms_mm), Mm(b.mean_mm),
-                    Mm(b.max_mm), Mm(b.rms_mm),
-                    fmt::format("{:.0f} %", r.improvement_percent[h])});
-  }
-  report.AddTable(
-      {"head", "tests", "model mean [mm]", "model max", "model RMS",
-       "baseline mean", "baseline max", "baseline RMS", "improvement"},
-      rows);
-  report.AddChart(PositionChart(plan, r));
-  report.AddChart(ErrorChart(plan, r));
-  report.AddChart(TrajectoryChart(plan, m, r));
-  report.AddHeading("Test points");
-  rows.clear();
-  for (const TestScore& t : r.tests) {
-    for (size_t h = 0; h < t.heads.size(); ++h) {
-      const HeadScore& s = t.heads[h];
-      rows.push_back({t.id, plan.mechanism.heads[h].name, Mm(s.measured_mm.x()),
-                      Mm(s.measured_mm.y()), Mm(s.model_error_mm),
-                      Mm(s.baseline_error_mm), Mm(s.hysteresis_mm),
-                      t.status + (t.reason.empty() ? "" : ": " + t.reason)});
-    }
-  }
-  report.AddTable(
-      {"test", "head", "measured dy [mm]", "measured dz [mm]",
-       "model error [mm]", "baseline error [mm]", "hysteresis [mm]", "status"},
-      rows);
-  report.AddHeading("Hysteresis");
-  report.AddParagraph(fmt::format(
-      "Tolerance {} mm; flagged: {}. {}", plan.hysteresis_tolerance_mm,
-      r.hysteresis_flagged.empty()
-          ? std::string("none")
-          : fmt::format("{}", fmt::join(r.hysteresis_flagged, ", ")),
-      r.hysteresis_cause));
-  report.AddHeading("Repeats");
-  rows.clear();
-  for (const RepeatAgreement& group : r.repeats) {
-    std::vector<std::string> row = {
-        fmt::format("{}", fmt::join(group.test_ids, ", "))};
-    for (double d : group.max_difference_mm) row.push_back(Mm(d));
-    rows.push_back(row);
-  }
-  std::vector<std::string> header = {"tests with the same pressures"};
-  for (const Head& head : plan.mechanism.heads) {
-    header.push_back(head.name + ": largest difference [mm]");
-  }
-  report.AddTable(header, rows);
-  report.AddHeading("Calibration");
-  report.AddTable(
-      {"item", "value"},
-      {{"scale", m.scale_source},
-       {"mm per pixel at the image centre", fmt::format("{:.5f}", m.mm_per_px)},
-       {"distortion check", m.distortion.message},
-       {"frames", std::to_string(m.frames.size())},
-       {"dot-frames missing", std::to_string(m.missing_dots)},
-       {"frames searched in full", std::to_string(m.full_frame_frames)},
-       {"same-colour blobs rejected", std::to_string(m.rejected_blobs)}});
-  return report.Render();
-}
-
 }  // namespace
 
 void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options) {
@@ -334,6 +111,9 @@ void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options) {
   c->add_option("--rest-s", options->rest_s,
                 "plan without times: seconds at rest at the video's start")
       ->capture_default_str();
+  c->add_flag("--windows-only", options->windows_only,
+              "read only the frames of the tests' windows, seeking between "
+              "them (needs the times in the plan)");
   c->add_option("--variant", options->variant,
                 "small-angle, full-trig or variable-arm (default: the plan's)");
 }
@@ -356,15 +136,16 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
         csv += fmt::format(",{:g}", t.pressures[k]);
       }
       for (int k = 0; k < 3; ++k) {
-        csv += "," + Mm(t.windows[k].median_mm[h].x()) + "," +
-               Mm(t.windows[k].median_mm[h].y());
+        csv += "," + FormatMm(t.windows[k].median_mm[h].x()) + "," +
+               FormatMm(t.windows[k].median_mm[h].y());
       }
       for (const Eigen::Vector2d& v : {s.measured_mm, s.model_mm}) {
-        csv += "," + Mm(v.x()) + "," + Mm(v.y());
+        csv += "," + FormatMm(v.x()) + "," + FormatMm(v.y());
       }
-      csv += "," + Mm(s.model_error_mm) + "," + Mm(s.baseline_mm.x()) + "," +
-             Mm(s.baseline_mm.y()) + "," + Mm(s.baseline_error_mm) + "," +
-             Mm(s.hysteresis_mm) + "," +
+      csv += "," + FormatMm(s.model_error_mm) + "," +
+             FormatMm(s.baseline_mm.x()) + "," + FormatMm(s.baseline_mm.y()) +
+             "," + FormatMm(s.baseline_error_mm) + "," +
+             FormatMm(s.hysteresis_mm) + "," +
              (t.measured ? (s.hysteresis_ok ? "1" : "0") : "") + "," +
              t.status + "\n";
     }
@@ -429,9 +210,28 @@ VideoValidation ValidateVideo(TestPlan plan,
                               bool progress) {
   VideoMeasurementOptions measure;
   measure.progress = progress;
-  measure.rest_s = plan.HasTimes() && holds.empty()
-                       ? *plan.tests.front().actuate_s
-                       : options.rest_s;
+  const bool times_known = plan.HasTimes() && holds.empty();
+  measure.rest_s = times_known ? *plan.tests.front().actuate_s : options.rest_s;
+  if (times_known) {
+    // The windows are known before measuring: their frames' crops are kept
+    // on the way, and in windows-only mode they are all that is read.
+    VideoReaderOptions probe;
+    probe.want_luma = probe.want_bgr = false;
+    const VideoInfo info = VideoReader(video_path, probe).info();
+    for (const auto& test :
+         PlanWindows(plan, (info.frame_count - 1) / info.fps)) {
+      for (const WindowSummary& w : test) {
+        measure.snapshot_times_s.push_back(0.5 * (w.start_s + w.end_s));
+        if (options.windows_only) measure.spans.push_back({w.start_s, w.end_s});
+      }
+    }
+  } else if (options.windows_only) {
+    throw InputError(fmt::format(
+        "{}: --windows-only needs the test times before reading the video; "
+        "give every test actuate_s and release_s in the plan (times from the "
+        "motion or a pressure log need every frame)",
+        plan.path));
+  }
   VideoMeasurement m = MeasureVideo(plan, video_path, measure);
   std::string times_source = "the plan";
   if (!plan.HasTimes() || !holds.empty()) {
@@ -461,6 +261,15 @@ VideoValidation ValidateVideo(TestPlan plan,
   }
   ValidationResult result = ScoreTests(plan, m, options.validation);
   result.times_source = times_source;
+  if (!times_known) {
+    std::vector<double> times;
+    for (const TestScore& t : result.tests) {
+      for (const WindowSummary& w : t.windows) {
+        times.push_back(0.5 * (w.start_s + w.end_s));
+      }
+    }
+    CaptureSnapshots(plan, times, &m);
+  }
   return {std::move(plan), std::move(m), std::move(result)};
 }
 
@@ -469,7 +278,7 @@ void WriteValidationFiles(const VideoValidation& v,
                           const std::filesystem::path& directory) {
   std::filesystem::create_directories(directory);
   WriteFileAtomically((directory / "report.html").string(),
-                      ReportHtml(v.plan, v.measurement, v.result));
+                      ValidationReportHtml(v.plan, v.measurement, v.result));
   WriteFileAtomically((directory / "results.csv").string(),
                       ResultsCsv(v.plan, v.result));
   WriteFileAtomically(
@@ -529,9 +338,9 @@ void WriteIndex(const std::vector<VideoValidation>& videos,
           r.improvement_percent[h], flagged);
       rows.push_back({names[i], v.plan.mechanism.heads[h].name,
                       std::to_string(r.model_errors[h].tests),
-                      Mm(r.model_errors[h].mean_mm),
-                      Mm(r.model_errors[h].max_mm),
-                      Mm(r.baseline_errors[h].mean_mm),
+                      FormatMm(r.model_errors[h].mean_mm),
+                      FormatMm(r.model_errors[h].max_mm),
+                      FormatMm(r.baseline_errors[h].mean_mm),
                       fmt::format("{:.0f} %", r.improvement_percent[h]),
                       flagged.empty() ? "none" : flagged});
     }

@@ -25,6 +25,9 @@ struct ValidateCommandOptions {
   std::string variant;         // overrides the plan's / constants file's
   // Without times in the plan: seconds at rest at the start of the video.
   double rest_s = 1.0;
+  // Read only the frames of the tests' windows, seeking between them (the
+  // plan must give the times); trajectory.csv then holds those frames only.
+  bool windows_only = false;
   bool quiet = false;
   ValidationOptions validation;
   TestPointDetectionOptions detection;

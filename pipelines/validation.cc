@@ -156,8 +156,7 @@ ValidationResult ScoreTests(const TestPlan& plan,
                             const VideoMeasurement& measurement,
                             const ValidationOptions& options) {
   const int num_heads = plan.mechanism.NumHeads();
-  const double video_end_s =
-      measurement.frames.empty() ? 0.0 : measurement.frames.back().time_s;
+  const double video_end_s = measurement.last_frame_s;
   ValidationResult result;
   result.model_name =
       "axial-shear (" + std::string(VariantName(plan.force_model)) + ")";

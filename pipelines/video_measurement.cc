@@ -3,13 +3,19 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <functional>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <set>
+#include <thread>
 
 #include "calibration/camera_calibration.h"
 #include "util/input_error.h"
+#include "util/parallel_tasks.h"
 #include "util/progress.h"
 #include "util/statistics.h"
 #include "vision/frame_source.h"
@@ -42,11 +48,34 @@ PlaneMapping MappingFromTag(const TestPlan& plan, const std::string& path,
   std::set<int> other_ids;
   VideoFrame frame;
   int frames = 0;
+  const TagDetector detector;
+  // The tag stays put: after the first frame that shows it, only the region
+  // around it (grown by half its size) is searched, ten times faster.
+  cv::Rect region;
   while (frames < tag_frames && reader.Read(&frame)) {
     ++frames;
-    for (const TagDetection& d : DetectTags(frame.luma)) {
+    const cv::Mat luma = region.empty() ? frame.luma : frame.luma(region);
+    for (TagDetection d : detector.Detect(luma)) {
+      for (Eigen::Vector2d& corner : d.corners) {
+        corner += Eigen::Vector2d(region.x, region.y);
+      }
       if (d.id == tag.id) {
         found.push_back(d.corners);
+        if (region.empty()) {
+          Eigen::Vector2d low = d.corners[0], high = d.corners[0];
+          for (const Eigen::Vector2d& corner : d.corners) {
+            low = low.cwiseMin(corner);
+            high = high.cwiseMax(corner);
+          }
+          const Eigen::Vector2d grow = 0.5 * (high - low);
+          low -= grow;
+          high += grow;
+          region = cv::Rect(cv::Point(static_cast<int>(low.x()),
+                                      static_cast<int>(low.y())),
+                            cv::Point(static_cast<int>(high.x()) + 1,
+                                      static_cast<int>(high.y()) + 1)) &
+                   cv::Rect(0, 0, frame.luma.cols, frame.luma.rows);
+        }
       } else {
         other_ids.insert(d.id);
       }
@@ -81,6 +110,124 @@ double MeanPairDistance(const std::vector<Eigen::Vector2d>& points) {
   for (double v : d) sum += v;
   return d.empty() ? 0.0 : sum / d.size();
 }
+
+// Sorted spans, overlapping (or touching) ones merged, those starting
+// beyond the video's last frame dropped.
+std::vector<TimeSpan> MergeSpans(std::vector<TimeSpan> spans, double duration_s,
+                                 double half_frame_s) {
+  std::sort(spans.begin(), spans.end(),
+            [](const TimeSpan& a, const TimeSpan& b) {
+              return a.start_s < b.start_s;
+            });
+  std::vector<TimeSpan> merged;
+  for (TimeSpan span : spans) {
+    span.start_s = std::max(span.start_s, 0.0);
+    if (span.start_s >= span.end_s ||
+        span.start_s > duration_s - half_frame_s) {
+      continue;
+    }
+    if (!merged.empty() && span.start_s <= merged.back().end_s + half_frame_s) {
+      merged.back().end_s = std::max(merged.back().end_s, span.end_s);
+    } else {
+      merged.push_back(span);
+    }
+  }
+  return merged;
+}
+
+// Measures spans of a video with one reader and one tracker, keeping the
+// frames, the snapshots asked for and the counts.
+class SpanMeasurer {
+ public:
+  SpanMeasurer(const TestPlan& plan, const std::string& path, double mm_per_px,
+               HeadTracker tracker, const std::vector<double>& snapshot_times,
+               int decoder_threads, std::atomic<int64_t>* frames_done)
+      : plan_(&plan),
+        mm_per_px_(mm_per_px),
+        reader_(std::make_unique<VideoReader>(
+            path, VideoReaderOptions{.want_luma = true,
+                                     .want_bgr = false,
+                                     .threads = decoder_threads})),
+        tracker_(std::move(tracker)),
+        snapshot_times_(&snapshot_times),
+        frames_done_(frames_done) {}
+
+  const HeadTracker& tracker() const { return tracker_; }
+  // Throw InputError when the first frame measured lacks a dot: it is the
+  // heads' reference.
+  void RequireCompleteFirstFrame() { first_frame_complete_ = true; }
+
+  // The frames of `span`: after a seek to its start, or read on from the
+  // reader's position; `poll` is called after each frame.
+  void Measure(const TimeSpan& span, bool seek,
+               const std::function<void()>& poll) {
+    VideoFrame frame;
+    if (seek) {
+      frame = reader_->SeekTo(span.start_s);
+      tracker_.ForgetPositions();
+    } else if (!reader_->Read(&frame)) {
+      return;
+    }
+    const double half_frame_s = 0.5 / reader_->info().fps;
+    auto next_snapshot =
+        std::lower_bound(snapshot_times_->begin(), snapshot_times_->end(),
+                         frame.time_s - half_frame_s);
+    do {
+      if (frame.time_s >= span.end_s) break;
+      const VideoFrameSource source(reader_.get(), &frame);
+      FrameSample sample;
+      sample.frame = frame.index;
+      sample.time_s = frame.time_s;
+      bool full = false;
+      for (HeadObservation& obs : tracker_.Measure(source)) {
+        if (first_frame_complete_ && frames_.empty() && !obs.complete) {
+          throw InputError(fmt::format(
+              "{}: first frame measured (t = {:.3f} s): {}", reader_->path(),
+              frame.time_s,
+              obs.note.empty() ? "not every dot was found" : obs.note));
+        }
+        missing_dots_ += static_cast<int>(obs.dots.size()) - obs.dots_found;
+        rejected_blobs_ += obs.rejected_blobs;
+        full = full || obs.full_frame;
+        sample.heads.push_back({std::move(obs), {}, {}});
+      }
+      full_frame_frames_ += full;
+      for (; next_snapshot != snapshot_times_->end() &&
+             frame.time_s >= *next_snapshot - half_frame_s;
+           ++next_snapshot) {
+        if (frame.time_s <= *next_snapshot + half_frame_s) {
+          snapshots_.push_back(SnapshotHeads(source, sample, *plan_, mm_per_px_,
+                                             *next_snapshot));
+        }
+      }
+      frames_.push_back(std::move(sample));
+      ++*frames_done_;
+      poll();
+    } while (reader_->Read(&frame));
+  }
+
+  // Appends what was measured (later spans than `m` holds) to `m`.
+  void MoveInto(VideoMeasurement* m) {
+    std::move(frames_.begin(), frames_.end(), std::back_inserter(m->frames));
+    std::move(snapshots_.begin(), snapshots_.end(),
+              std::back_inserter(m->snapshots));
+    m->missing_dots += missing_dots_;
+    m->rejected_blobs += rejected_blobs_;
+    m->full_frame_frames += full_frame_frames_;
+  }
+
+ private:
+  const TestPlan* plan_;
+  double mm_per_px_;
+  std::unique_ptr<VideoReader> reader_;
+  HeadTracker tracker_;
+  const std::vector<double>* snapshot_times_;
+  std::atomic<int64_t>* frames_done_;
+  std::vector<FrameSample> frames_;
+  std::vector<FrameSnapshot> snapshots_;
+  int missing_dots_ = 0, rejected_blobs_ = 0, full_frame_frames_ = 0;
+  bool first_frame_complete_ = false;
+};
 
 }  // namespace
 
@@ -175,10 +322,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   if (auto problem = options.Check()) {
     throw std::invalid_argument("MeasureVideo: " + *problem);
   }
-  VideoReaderOptions reader_options;
-  reader_options.want_bgr = false;
-  VideoReader reader(video_path, reader_options);
-  const VideoInfo& info = reader.info();
+  VideoReaderOptions probe;
+  probe.want_luma = probe.want_bgr = false;
+  const VideoInfo info = VideoReader(video_path, probe).info();
   const CameraIntrinsics intrinsics =
       PlanIntrinsics(plan, info.width_px, info.height_px);
   VideoMeasurement m;
@@ -188,34 +334,71 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
                                            options.tag_frames, &m.scale_source);
   m.mm_per_px = mapping.MmPerPixelAt(
       Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
-  HeadTracker tracker(mapping, PlanHeadMarkers(plan), options.tracker);
+  m.mapping = mapping;
+  const double half_frame_s = 0.5 / info.fps;
+  std::vector<double> snapshot_times = options.snapshot_times_s;
+  std::sort(snapshot_times.begin(), snapshot_times.end());
 
-  ProgressBar progress("measure", info.frame_count, options.progress);
-  VideoFrame frame;
-  while (reader.Read(&frame)) {
-    const VideoFrameSource source(&reader, &frame);
-    FrameSample sample;
-    sample.frame = frame.index;
-    sample.time_s = frame.time_s;
-    bool full = false;
-    for (HeadObservation& obs : tracker.Measure(source)) {
-      if (m.frames.empty() && !obs.complete) {
-        throw InputError(fmt::format(
-            "{}: first frame: {}", video_path,
-            obs.note.empty() ? "not every dot was found" : obs.note));
-      }
-      m.missing_dots += static_cast<int>(obs.dots.size()) - obs.dots_found;
-      m.rejected_blobs += obs.rejected_blobs;
-      full = full || obs.full_frame;
-      sample.heads.push_back({std::move(obs), {}, {}});
+  // Every frame, or the frames of the spans in time order (overlapping ones
+  // merged, those beyond the video dropped).
+  m.every_frame = options.spans.empty();
+  std::vector<TimeSpan> spans;
+  if (m.every_frame) {
+    spans.push_back({-half_frame_s, INFINITY});
+  } else {
+    spans = MergeSpans(options.spans, info.duration_s, half_frame_s);
+  }
+  int64_t frames_wanted = 0;
+  for (const TimeSpan& span : spans) {
+    frames_wanted += static_cast<int64_t>(std::ceil(
+        (std::min(span.end_s, info.duration_s) - std::max(span.start_s, 0.0)) *
+        info.fps));
+  }
+  ProgressBar progress("measure",
+                       m.every_frame ? info.frame_count : frames_wanted,
+                       options.progress);
+  std::atomic<int64_t> frames_done{0};
+  std::vector<SpanMeasurer> measurers;
+  measurers.emplace_back(
+      plan, video_path, m.mm_per_px,
+      HeadTracker(mapping, PlanHeadMarkers(plan), options.tracker),
+      snapshot_times, m.every_frame ? 0 : 1, &frames_done);
+  measurers.front().RequireCompleteFirstFrame();
+  if (m.every_frame) {
+    measurers.front().Measure(spans.front(), false,
+                              [&] { progress.Update(frames_done); });
+  } else if (!spans.empty()) {
+    // The first frame alone: it sets the heads' references (rotation, dot
+    // offsets) that every later frame is measured against. Then the windows
+    // in parallel, each worker a share of them in time order with its own
+    // single-threaded decoder (after a seek, frame threads never fill up)
+    // and a copy of the tracker; the first continues where it stopped.
+    measurers.front().Measure(
+        {spans.front().start_s, spans.front().start_s + half_frame_s}, true,
+        [] {});
+    const int jobs = static_cast<int>(std::min<size_t>(
+        spans.size(), std::max(1u, std::thread::hardware_concurrency())));
+    for (int j = 1; j < jobs; ++j) {
+      measurers.emplace_back(plan, video_path, m.mm_per_px,
+                             measurers.front().tracker(), snapshot_times, 1,
+                             &frames_done);
     }
-    m.full_frame_frames += full;
-    m.frames.push_back(std::move(sample));
-    progress.Update(static_cast<int64_t>(m.frames.size()));
+    RunParallelTasks(
+        jobs, jobs,
+        [&](int j) {
+          for (size_t i = spans.size() * j / jobs;
+               i < spans.size() * (j + 1) / jobs; ++i) {
+            measurers[j].Measure(spans[i], i > 0, [] {});
+          }
+        },
+        [&] { progress.Update(frames_done); });
   }
   progress.Finish();
+  for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
   if (m.frames.empty())
     throw InputError(video_path + ": the video has no frames");
+  m.last_frame_s = m.every_frame ? m.frames.back().time_s
+                                 : (info.frame_count - 1) / info.fps;
 
   // Rest: before the first actuation when the plan has times.
   double rest_end = options.rest_s;
@@ -254,6 +437,76 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
     m.distortion = CheckDistortion(plan, m.frames, m.scale_source);
   }
   return m;
+}
+
+const FrameSample* FindFrame(const VideoMeasurement& measurement,
+                             double time_s) {
+  const std::vector<FrameSample>& frames = measurement.frames;
+  const auto after = std::lower_bound(
+      frames.begin(), frames.end(), time_s,
+      [](const FrameSample& f, double t) { return f.time_s < t; });
+  const FrameSample* best = nullptr;
+  for (auto it : {after - (after != frames.begin() ? 1 : 0), after}) {
+    if (it == frames.end()) continue;
+    if (best == nullptr ||
+        std::abs(it->time_s - time_s) < std::abs(best->time_s - time_s)) {
+      best = &*it;
+    }
+  }
+  if (best == nullptr || frames.size() < 2) return best;
+  const double frame_s =
+      (frames.back().time_s - frames.front().time_s) /
+      static_cast<double>(frames.back().frame - frames.front().frame);
+  return std::abs(best->time_s - time_s) <= 0.5 * frame_s + 1e-9 ? best
+                                                                 : nullptr;
+}
+
+FrameSnapshot SnapshotHeads(const FrameSource& frame, const FrameSample& sample,
+                            const TestPlan& plan, double mm_per_px,
+                            double requested_s) {
+  FrameSnapshot snapshot;
+  snapshot.requested_s = requested_s;
+  snapshot.frame = sample.frame;
+  snapshot.time_s = sample.time_s;
+  for (size_t h = 0; h < sample.heads.size(); ++h) {
+    const HeadObservation& obs = sample.heads[h].observation;
+    HeadCrop& crop = snapshot.heads.emplace_back();
+    Eigen::Vector2d low = obs.pixel, high = obs.pixel;
+    for (const DotObservation& dot : obs.dots) {
+      if (!dot.found) continue;
+      low = low.cwiseMin(dot.pixel);
+      high = high.cwiseMax(dot.pixel);
+    }
+    if (!low.allFinite()) continue;
+    const double margin_px =
+        2.5 * plan.markers[h].dot_diameter_mm / std::max(mm_per_px, 1e-9);
+    const cv::Rect box(cv::Point(static_cast<int>(low.x() - margin_px),
+                                 static_cast<int>(low.y() - margin_px)),
+                       cv::Point(static_cast<int>(high.x() + margin_px),
+                                 static_cast<int>(high.y() + margin_px)));
+    crop.bgr = frame.BgrRegion(box);
+    const cv::Rect clipped =
+        box & cv::Rect(0, 0, frame.luma().cols, frame.luma().rows);
+    crop.origin_px = Eigen::Vector2d(clipped.x, clipped.y);
+  }
+  return snapshot;
+}
+
+void CaptureSnapshots(const TestPlan& plan, const std::vector<double>& times_s,
+                      VideoMeasurement* measurement) {
+  std::vector<double> times = times_s;
+  std::sort(times.begin(), times.end());
+  VideoReaderOptions reader_options;
+  reader_options.want_bgr = false;
+  VideoReader reader(measurement->video_path, reader_options);
+  for (double t : times) {
+    const FrameSample* sample = FindFrame(*measurement, t);
+    if (sample == nullptr) continue;  // not measured: nothing to annotate
+    const VideoFrame frame = reader.SeekTo(sample->time_s);
+    measurement->snapshots.push_back(
+        SnapshotHeads(VideoFrameSource(&reader, &frame), *sample, plan,
+                      measurement->mm_per_px, t));
+  }
 }
 
 DistortionCheck CheckDistortion(const TestPlan& plan,

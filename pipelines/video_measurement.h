@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_VIDEO_MEASUREMENT_H_
 
 #include <Eigen/Core>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +13,12 @@
 
 namespace softbench {
 
+// A stretch of video time, [start_s, end_s).
+struct TimeSpan {
+  double start_s = 0.0;
+  double end_s = 0.0;
+};
+
 struct VideoMeasurementOptions {
   // Frames from the start whose tag corners are combined (median).
   int tag_frames = 10;
@@ -19,6 +26,11 @@ struct VideoMeasurementOptions {
   // actuation (plan times) or, without times, over the first `rest_s`.
   double rest_s = 1.0;
   HeadTrackerOptions tracker;
+  // Only the frames in these spans are measured, seeking from one to the
+  // next (validate --windows-only); empty: every frame.
+  std::vector<TimeSpan> spans;
+  // Times whose frames' head crops are kept (for the report's pictures).
+  std::vector<double> snapshot_times_s;
   bool progress = true;
 
   std::optional<std::string> Check() const;
@@ -39,6 +51,19 @@ struct FrameSample {
   std::vector<HeadSample> heads;  // in the plan's head order
 };
 
+// The heads of one frame, cut out for the report's annotated pictures.
+struct HeadCrop {
+  cv::Mat bgr;                // CV_8UC3
+  Eigen::Vector2d origin_px;  // the crop's top-left corner in the frame
+};
+
+struct FrameSnapshot {
+  double requested_s = 0.0;  // the time asked for
+  int64_t frame = 0;
+  double time_s = 0.0;
+  std::vector<HeadCrop> heads;  // in the plan's head order
+};
+
 // The distortion check without intrinsics: the dots' spacing, measured
 // through the mapping, over the plan's layout spacing, at every frame.
 struct DistortionCheck {
@@ -55,8 +80,13 @@ struct VideoMeasurement {
   std::string scale_source;  // "tag 0 (10 frames)", "mm_per_px", ...
   double mm_per_px = 0.0;    // at the image centre, dot plane
   std::vector<Eigen::Vector2d> rest_mm;  // per head, plane coordinates
-  std::vector<FrameSample> frames;
-  int missing_dots = 0;       // dot-frames without a dot
+  std::vector<FrameSample> frames;       // in time order
+  // Time of the video's last frame (its end, as far as windows go).
+  double last_frame_s = 0.0;
+  bool every_frame = true;  // false: only the requested spans were read
+  std::optional<PlaneMapping> mapping;
+  std::vector<FrameSnapshot> snapshots;  // in time order
+  int missing_dots = 0;                  // dot-frames without a dot
   int full_frame_frames = 0;  // frames that needed a full-image search
   int rejected_blobs = 0;     // same-colour blobs rejected in all frames
   DistortionCheck distortion;
@@ -84,6 +114,22 @@ std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan);
 VideoMeasurement MeasureVideo(const TestPlan& plan,
                               const std::string& video_path,
                               const VideoMeasurementOptions& options);
+
+// The measured frame on screen at `time_s` (within half a frame), or null.
+const FrameSample* FindFrame(const VideoMeasurement& measurement,
+                             double time_s);
+
+// Cuts each head of a measured frame out of it: the box of its dots, grown
+// by 2.5 dot diameters on every side (room for the predictions around it).
+FrameSnapshot SnapshotHeads(const FrameSource& frame, const FrameSample& sample,
+                            const TestPlan& plan, double mm_per_px,
+                            double requested_s);
+
+// Adds the snapshots at `times_s` to a finished measurement, decoding the
+// video again (used when the times were known only after measuring: test
+// points found from the motion or a pressure log).
+void CaptureSnapshots(const TestPlan& plan, const std::vector<double>& times_s,
+                      VideoMeasurement* measurement);
 
 // The distortion check over measured frames (every complete head): warns
 // when the dots' spacing through the mapping departs from the plan's layout

@@ -12,6 +12,9 @@ namespace softbench {
 
 std::optional<std::string> HeadTrackerOptions::Check() const {
   if (auto problem = centre.Check()) return problem;
+  if (!(relocate_radius_factor >= 0.0)) {
+    return "relocate_radius_factor must be >= 0";
+  }
   if (!(search_radius_factor >= 1.2)) {
     return "search_radius_factor must be >= 1.2 (the region must hold a dot)";
   }
@@ -70,6 +73,35 @@ HeadTracker::HeadTracker(const PlaneMapping& mapping,
   first_dots_mm_.resize(heads_.size());
 }
 
+void HeadTracker::ForgetPositions() { relocate_ = true; }
+
+bool HeadTracker::Relocate(const FrameSource& frame, int head,
+                           HeadObservation* out) {
+  Eigen::Vector2d low = last_pixels_[head].front(), high = low;
+  for (const Eigen::Vector2d& p : last_pixels_[head]) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  const double margin = options_.relocate_radius_factor * radius_px_[head];
+  const cv::Rect region =
+      cv::Rect(cv::Point(static_cast<int>(std::floor(low.x() - margin)),
+                         static_cast<int>(std::floor(low.y() - margin))),
+               cv::Point(static_cast<int>(std::ceil(high.x() + margin)),
+                         static_cast<int>(std::ceil(high.y() + margin)))) &
+      cv::Rect(0, 0, frame.luma().cols, frame.luma().rows);
+  const cv::Mat bgr = frame.BgrRegion(region);
+  if (bgr.empty()) return false;
+  HeadObservation found = *out;
+  // Rejections are counted by full-image searches only.
+  if (!Detect(frame, bgr, region.tl(), head, &found) ||
+      found.dots_found < heads_[head].dots) {
+    return false;
+  }
+  found.rejected_blobs = 0;
+  *out = found;
+  return true;
+}
+
 std::vector<HeadObservation> HeadTracker::Measure(const FrameSource& frame) {
   std::vector<HeadObservation> result(heads_.size());
   claimed_.clear();
@@ -77,10 +109,16 @@ std::vector<HeadObservation> HeadTracker::Measure(const FrameSource& frame) {
   for (size_t h = 0; h < heads_.size(); ++h) {
     HeadObservation& obs = result[h];
     obs.dots.assign(heads_[h].dots, DotObservation{});
-    const bool tracked =
+    const bool known =
         !options_.full_frame_every_frame && !last_pixels_[h].empty();
-    if (tracked) TrackRegions(frame, static_cast<int>(h), &obs);
-    if (!tracked || obs.dots_found < heads_[h].dots) {
+    bool found = false;
+    if (known && relocate_) {
+      found = Relocate(frame, static_cast<int>(h), &obs);
+    } else if (known) {
+      TrackRegions(frame, static_cast<int>(h), &obs);
+      found = obs.dots_found == heads_[h].dots;
+    }
+    if (!found) {
       if (full_bgr.empty()) {
         full_bgr = frame.BgrRegion(
             cv::Rect(0, 0, frame.luma().cols, frame.luma().rows));
@@ -88,7 +126,7 @@ std::vector<HeadObservation> HeadTracker::Measure(const FrameSource& frame) {
       HeadObservation detected = obs;
       detected.dots.assign(heads_[h].dots, DotObservation{});
       detected.dots_found = 0;
-      if (Detect(frame, full_bgr, static_cast<int>(h), &detected)) {
+      if (Detect(frame, full_bgr, {0, 0}, static_cast<int>(h), &detected)) {
         obs = detected;
       } else if (obs.dots_found == 0) {
         obs.note = detected.note;
@@ -100,6 +138,7 @@ std::vector<HeadObservation> HeadTracker::Measure(const FrameSource& frame) {
     }
     Finish(static_cast<int>(h), &obs);
   }
+  relocate_ = false;
   return result;
 }
 
@@ -168,12 +207,14 @@ bool HeadTracker::Refine(const FrameSource& frame, int head, int dot,
   return true;
 }
 
-bool HeadTracker::Detect(const FrameSource& frame, const cv::Mat& full_bgr,
-                         int head, HeadObservation* out) {
+bool HeadTracker::Detect(const FrameSource& frame, const cv::Mat& bgr,
+                         const cv::Point& offset, int head,
+                         HeadObservation* out) {
   const HeadMarkers& markers = heads_[head];
   SegmentationOptions segmentation = options_.segmentation;
   segmentation.dot_radius_px = radius_px_[head];
-  const BlobSummary blobs = SegmentDots(full_bgr, markers.color, segmentation);
+  const BlobSummary blobs =
+      SegmentDots(bgr, markers.color, segmentation, offset);
   // Candidates: accepted blobs not taken by an earlier head this frame,
   // the roundest first, at most 12 (the search below is combinatorial).
   std::vector<Blob> candidates;

@@ -36,6 +36,10 @@ struct HeadTrackerOptions {
   // Largest RMS misfit [mm] between a candidate set of dots and the plan's
   // layout (rigid fit): rejects same-colour blobs that are not this head's.
   double layout_tolerance_mm = 0.6;
+  // After ForgetPositions (a seek), a head is first searched for around its
+  // last dots, their box grown by this many dot radii (the head's travel
+  // between two windows), and in the full image only when it is not there.
+  double relocate_radius_factor = 6.0;
   // Measure every frame from the full image (no regions): the slow path,
   // for benchmarks and checks.
   bool full_frame_every_frame = false;
@@ -87,13 +91,21 @@ class HeadTracker {
   // Measures every head in one frame.
   std::vector<HeadObservation> Measure(const FrameSource& frame);
 
+  // After a seek or a gap: the next frame does not follow the dots from
+  // their last positions but detects each head afresh (layout and all),
+  // near where it was or else in the full image. Rotation and missing-dot
+  // offsets still refer to the first detection.
+  void ForgetPositions();
+
  private:
   // Follows each dot of `head` in a region around its last position.
   void TrackRegions(const FrameSource& frame, int head, HeadObservation* out);
-  // Full-image detection of one head; false with `note` set when no set of
-  // blobs fits the layout.
-  bool Detect(const FrameSource& frame, const cv::Mat& full_bgr, int head,
-              HeadObservation* out);
+  // Detection of one head in `bgr`, the part of the frame at `offset`;
+  // false with `note` set when no set of blobs fits the layout.
+  bool Detect(const FrameSource& frame, const cv::Mat& bgr,
+              const cv::Point& offset, int head, HeadObservation* out);
+  // Detection near the head's last dots (after ForgetPositions).
+  bool Relocate(const FrameSource& frame, int head, HeadObservation* out);
   // Refines a dot found as `blob_centroid` from the luma, starting at
   // `start`; false with `note` set when the luma fails.
   bool Refine(const FrameSource& frame, int head, int dot,
@@ -110,6 +122,7 @@ class HeadTracker {
   std::vector<std::vector<Eigen::Vector2d>> first_offsets_mm_;
   std::vector<std::vector<Eigen::Vector2d>> first_dots_mm_;
   std::vector<Eigen::Vector2d> claimed_;  // dots taken this frame
+  bool relocate_ = false;                 // set by ForgetPositions
 };
 
 }  // namespace softbench

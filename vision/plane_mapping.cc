@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -88,6 +89,15 @@ double PlaneMapping::MmPerPixelAt(const Eigen::Vector2d& pixel) const {
 Eigen::Vector2d PlaneMapping::ToPixel(const Eigen::Vector2d& plane_mm) const {
   const Eigen::Vector3d n = normalized_from_plane_ * plane_mm.homogeneous();
   return camera_.Distort(n.head<2>() / n.z());
+}
+
+double PlaneMapping::TiltRad() const {
+  // normalized_from_plane is [r1 r2 t] up to scale: the plane's axes in the
+  // camera frame; their cross product is its normal.
+  const Eigen::Vector3d normal =
+      normalized_from_plane_.col(0).normalized().cross(
+          normalized_from_plane_.col(1).normalized());
+  return std::acos(std::min(1.0, std::abs(normal.normalized().z())));
 }
 
 }  // namespace softbench

@@ -41,6 +41,9 @@ class PlaneMapping {
   double MmPerPixelAt(const Eigen::Vector2d& pixel) const;
   // The plane point's pixel (inverse of ToPlane).
   Eigen::Vector2d ToPixel(const Eigen::Vector2d& plane_mm) const;
+  // Angle between the camera's optical axis and the plane's normal [rad]:
+  // the tilt the tag's pose corrects (0 for a mapping from a scale).
+  double TiltRad() const;
 
   const CameraIntrinsics& intrinsics() const { return camera_.intrinsics(); }
 

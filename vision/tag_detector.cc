@@ -12,6 +12,7 @@ namespace softbench {
 
 std::optional<std::string> TagDetectorOptions::Check() const {
   if (!(edge_half_width_px >= 2.0)) return "edge_half_width_px must be >= 2";
+  if (!(quad_decimate >= 1.0f)) return "quad_decimate must be >= 1";
   return std::nullopt;
 }
 
@@ -87,17 +88,32 @@ Eigen::Vector2d Intersect(const cv::Vec4f& l1, const cv::Vec4f& l2) {
 
 }  // namespace
 
-std::vector<TagDetection> DetectTags(const cv::Mat& gray,
-                                     const TagDetectorOptions& options) {
-  assert(gray.type() == CV_8UC1 && !options.Check());
+struct TagDetector::Apriltag {
   apriltag_family_t* family = tag36h11_create();
   apriltag_detector_t* detector = apriltag_detector_create();
-  apriltag_detector_add_family(detector, family);
-  detector->quad_decimate = 1.0f;
-  detector->nthreads = 1;
+  ~Apriltag() {
+    apriltag_detector_destroy(detector);
+    tag36h11_destroy(family);
+  }
+};
+
+TagDetector::TagDetector(const TagDetectorOptions& options)
+    : options_(options), apriltag_(std::make_unique<Apriltag>()) {
+  assert(!options.Check());
+  // Up to one corrected bit error: the two-bit table costs ~0.1 s to build,
+  // and a tag big enough to measure by reads cleanly.
+  apriltag_detector_add_family_bits(apriltag_->detector, apriltag_->family, 1);
+  apriltag_->detector->quad_decimate = options.quad_decimate;
+  apriltag_->detector->nthreads = 1;
+}
+
+TagDetector::~TagDetector() = default;
+
+std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) const {
+  assert(gray.type() == CV_8UC1);
   image_u8_t image{gray.cols, gray.rows, static_cast<int32_t>(gray.step),
                    gray.data};
-  zarray_t* detections = apriltag_detector_detect(detector, &image);
+  zarray_t* detections = apriltag_detector_detect(apriltag_->detector, &image);
 
   std::vector<TagDetection> tags;
   for (int i = 0; i < zarray_size(detections); ++i) {
@@ -114,7 +130,7 @@ std::vector<TagDetection> DetectTags(const cv::Mat& gray,
     bool refined = true;
     for (int c = 0; c < 4 && refined; ++c) {
       refined = FitEdge(gray, tag.coarse_corners[c],
-                        tag.coarse_corners[(c + 1) % 4], options, &edges[c]);
+                        tag.coarse_corners[(c + 1) % 4], options_, &edges[c]);
     }
     for (int c = 0; c < 4; ++c) {
       tag.corners[c] = refined ? Intersect(edges[(c + 3) % 4], edges[c])
@@ -124,8 +140,6 @@ std::vector<TagDetection> DetectTags(const cv::Mat& gray,
     tags.push_back(tag);
   }
   apriltag_detections_destroy(detections);
-  apriltag_detector_destroy(detector);
-  tag36h11_destroy(family);
   return tags;
 }
 

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -16,6 +17,11 @@ struct TagDetectorOptions {
   // border and the white quiet zone must each be wider (a 25 mm tag36h11 at
   // the thesis's 0.18 mm/px has 17 px cells).
   double edge_half_width_px = 5.0;
+  // libapriltag finds the tag's outline in an image decimated by this factor
+  // (its bits and our edges are still read at full resolution): 2 is about
+  // three times faster on a 1080p frame, and a tag must be ~25 px wide or
+  // more per factor to be found.
+  float quad_decimate = 2.0f;
 
   std::optional<std::string> Check() const;
 };
@@ -38,9 +44,23 @@ struct TagDetection {
 // resolution; the four outer edges are then located to sub-pixel accuracy
 // (see FitEdge in tag_detector.cc) and intersected, because libapriltag's
 // corners are off by up to ~0.2 px even on exact noise-free renderings and
-// cornerSubPix shrinks anti-aliased corners by about as much.
-std::vector<TagDetection> DetectTags(const cv::Mat& gray,
-                                     const TagDetectorOptions& options = {});
+// cornerSubPix shrinks anti-aliased corners by about as much. Building
+// libapriltag's decoding table costs as much as a 1080p detection, so one
+// detector serves many frames.
+class TagDetector {
+ public:
+  explicit TagDetector(const TagDetectorOptions& options = {});
+  ~TagDetector();
+  TagDetector(const TagDetector&) = delete;
+  TagDetector& operator=(const TagDetector&) = delete;
+
+  std::vector<TagDetection> Detect(const cv::Mat& gray) const;
+
+ private:
+  TagDetectorOptions options_;
+  struct Apriltag;
+  std::unique_ptr<Apriltag> apriltag_;
+};
 
 }  // namespace softbench
 

@@ -36,6 +36,10 @@ struct VideoReader::State {
   int64_t frames_returned = 0;   // since open or the last seek
   int64_t last_good_index = -1;  // for truncation messages
   double last_good_time = 0.0;
+  int64_t last_good_pts = AV_NOPTS_VALUE;
+  // While seeking: packets presented before this are decoded only when
+  // other frames refer to them (non-reference frames are skipped, exactly).
+  int64_t discard_before_pts = INT64_MIN;
   bool flushing = false;
   bool finished = false;
 
@@ -82,6 +86,10 @@ struct VideoReader::State {
       }
       if (read < 0) FailBroken(FfmpegError(read));
       if (packet->stream_index == stream) {
+        codec->skip_frame =
+            packet->pts != AV_NOPTS_VALUE && packet->pts < discard_before_pts
+                ? AVDISCARD_NONREF
+                : AVDISCARD_DEFAULT;
         const int sent = avcodec_send_packet(codec, packet);
         if (sent < 0 && sent != AVERROR(EAGAIN)) {
           av_packet_unref(packet);
@@ -110,6 +118,9 @@ struct VideoReader::State {
       return false;
     }
     last_good_time = FrameTime();
+    last_good_pts = frame->best_effort_timestamp != AV_NOPTS_VALUE
+                        ? frame->best_effort_timestamp
+                        : frame->pts;
     last_good_index = std::llround(last_good_time * info.fps);
     ++frames_returned;
     return true;
@@ -261,21 +272,40 @@ VideoFrame VideoReader::SeekTo(double time_s) {
   const int64_t target =
       s.start_pts +
       static_cast<int64_t>(std::floor(time_s / av_q2d(s.time_base)));
-  const int err =
-      av_seek_frame(s.format, s.stream, target, AVSEEK_FLAG_BACKWARD);
-  if (err < 0) {
-    s.Fail(fmt::format("seek to t = {:.3f} s failed ({})", time_s,
-                       FfmpegError(err)));
+  // Decode forward without seeking when no key frame lies between the frame
+  // on screen and the target: a seek would start from the same key frame.
+  AVStream* stream = s.format->streams[s.stream];
+  const int key =
+      av_index_search_timestamp(stream, target, AVSEEK_FLAG_BACKWARD);
+  const AVIndexEntry* key_entry =
+      key >= 0 ? avformat_index_get_entry(stream, key) : nullptr;
+  const bool forward = !s.finished && s.last_good_pts != AV_NOPTS_VALUE &&
+                       s.last_good_time < time_s - half_frame &&
+                       key_entry != nullptr &&
+                       key_entry->timestamp <= s.last_good_pts;
+  if (!forward) {
+    const int err =
+        av_seek_frame(s.format, s.stream, target, AVSEEK_FLAG_BACKWARD);
+    if (err < 0) {
+      s.Fail(fmt::format("seek to t = {:.3f} s failed ({})", time_s,
+                         FfmpegError(err)));
+    }
+    avcodec_flush_buffers(s.codec);
+    s.flushing = s.finished = false;
   }
-  avcodec_flush_buffers(s.codec);
-  s.flushing = s.finished = false;
-  // Decode from the key frame up to the frame on screen at `time_s`.
+  // Decode up to the frame on screen at `time_s`, skipping the frames no
+  // other frame refers to.
+  s.discard_before_pts =
+      s.start_pts + static_cast<int64_t>(std::floor((time_s - half_frame) /
+                                                    av_q2d(s.time_base)));
   for (;;) {
     if (!s.Next()) {
+      s.discard_before_pts = INT64_MIN;
       s.Fail(fmt::format("seek to t = {:.3f} s ran past the end", time_s));
     }
     if (s.last_good_time >= time_s - half_frame) break;
   }
+  s.discard_before_pts = INT64_MIN;
   if (std::abs(s.last_good_time - time_s) > half_frame) {
     s.Fail(fmt::format("seek to t = {:.3f} s landed on t = {:.3f} s", time_s,
                        s.last_good_time));

@@ -62,7 +62,9 @@ class VideoReader {
 
   // Returns the frame on screen at `time_s` (Read() then continues after it);
   // throws when the time is outside the video or the frame landed on differs
-  // from the request by more than half a frame.
+  // from the request by more than half a frame. Decodes forward instead of
+  // seeking when no key frame lies between, and skips the non-reference
+  // frames before the target (bit-exact: nothing refers to them).
   VideoFrame SeekTo(double time_s);
 
   // The colour of a region (display coordinates, clipped to the frame) of

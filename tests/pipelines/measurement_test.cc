@@ -48,7 +48,7 @@ PlaneMapping TagMapping(const TestPlan& plan,
                         const cv::Mat& frame) {
   cv::Mat gray;
   cv::cvtColor(frame, gray, cv::COLOR_BGR2GRAY);
-  const std::vector<TagDetection> tags = DetectTags(gray);
+  const std::vector<TagDetection> tags = TagDetector().Detect(gray);
   EXPECT_EQ(tags.size(), 1u);
   return PlaneMapping::FromTag(intrinsics, tags.at(0).corners,
                                plan.calibration.tag->size_mm,

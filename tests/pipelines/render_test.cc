@@ -126,7 +126,7 @@ TEST(SceneRenderer, AprilTagIsDetectedWithItsIdAndCorners) {
     cv::Mat gray;
     cv::cvtColor(renderer.Render({Eigen::Vector2d::Zero()}, 0), gray,
                  cv::COLOR_BGR2GRAY);
-    const std::vector<TagDetection> tags = DetectTags(gray);
+    const std::vector<TagDetection> tags = TagDetector().Detect(gray);
     ASSERT_EQ(tags.size(), 1u);
     EXPECT_EQ(tags[0].id, 7);
     EXPECT_EQ(tags[0].hamming, 0);

@@ -117,8 +117,8 @@ TEST_F(TrackCommandTest, MissingColourNamesTheFirstFrame) {
   const std::string plan =
       std::string(kPlan) + "markers:\n  - {head: head, color: green}\n";
   const std::string message = TrackError(WritePlan("green.yaml", plan));
-  EXPECT_NE(message.find("clip.mp4: first frame: head 'head': found 0 green "
-                         "dot-like blobs"),
+  EXPECT_NE(message.find("clip.mp4: first frame measured (t = 0.000 s): head "
+                         "'head': found 0 green dot-like blobs"),
             std::string::npos)
       << message;
 }

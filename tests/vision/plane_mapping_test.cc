@@ -31,6 +31,9 @@ TEST(PlaneMapping, TagGivesTheDotPlaneOfATiltedDistortedCamera) {
     EXPECT_LT((mapping.ToPlane(pixel) - p).norm(), 1e-6) << p.transpose();
     EXPECT_LT((mapping.ToPixel(p) - pixel).norm(), 1e-6);
   }
+  // The tilt the pose corrects: 5 deg about x after -3 deg about y.
+  EXPECT_NEAR(mapping.TiltRad(),
+              std::acos(std::cos(5 * kDeg) * std::cos(3 * kDeg)), 1e-6);
   // A point on the tag plane is not on the dot plane: the offset matters.
   const Eigen::Vector2d low = mapping.ToPlane(camera.Project({40, 30, 0}));
   EXPECT_GT((low - Eigen::Vector2d(40, 30)).norm(), 0.5);
@@ -51,6 +54,7 @@ TEST(PlaneMapping, ScaleAndRotationFollowTheImage) {
                 .norm(),
             1e-12);
   EXPECT_NEAR(plain.MmPerPixelAt(centre), 0.2, 1e-12);
+  EXPECT_EQ(plain.TiltRad(), 0.0);
   // Turned 90 deg counter-clockwise: world +y points up the image.
   const PlaneMapping turned = PlaneMapping::FromScale(k, 0.2, 90 * kDeg);
   EXPECT_LT((turned.ToPlane(centre + Eigen::Vector2d(0, -10)) -

@@ -108,7 +108,8 @@ TEST(VideoIo, SeekLandsOnTheRequestedFrame) {
   options.keyframe_interval_s = 0.3;
   const std::string path = WriteVideo("softbench_io_seek.mp4", 60, options);
   VideoReader reader(path);
-  for (double t : {1.0, 0.2, 1.9, 0.0, 1.0 + 0.4 / 30}) {
+  // Backwards, forwards across key frames, and forwards within one.
+  for (double t : {1.0, 0.2, 1.9, 0.0, 1.0 + 0.4 / 30, 1.1, 1.2}) {
     const VideoFrame frame = reader.SeekTo(t);
     const int expected = static_cast<int>(std::lround(t * 30));
     EXPECT_EQ(frame.index, expected) << t;

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# softbench validate on a 10-minute 1080p H.264 bench video (the thesis's
+# protocol: 20 s holds, 20 s rests, 15 test points), against decoding the same
+# file and nothing else (docs/benchmarks.md):
+#   decode only       ffmpeg -f null (default threads), the limit
+#   full tracking     softbench validate (every frame measured, full report)
+#   windows only      softbench validate --windows-only (seeks to the windows)
+# Usage: bench/run_validate_bench.sh [rounds]   (default 5; medians)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-5}
+./scripts/bootstrap.sh --bench
+cmake --preset release >/dev/null && cmake --build --preset release >/dev/null
+
+media=build/bench-validate
+mkdir -p "$media"
+video=$media/delta_10min.mp4
+if [[ ! -f "$video" ]]; then
+  echo "rendering $video (about 20 minutes on 2 cores)..."
+  ./build/release/softbench --quiet render --plan bench/validate_10min.plan.yaml \
+    --output "$video" --truth "$media/truth.csv" \
+    --plan-out "$media/rendered.plan.yaml" --resolution 1080p --codec h264 \
+    --preset veryfast --seed 21
+fi
+ffprobe -v error -select_streams v -show_entries stream=width,height,nb_frames,duration \
+  -of csv=p=0 "$video" | awk -F, '{print "video: " $1 "x" $2 ", " $3 " s, " $4 " frames"}'
+
+validate="./build/release/softbench --quiet validate $video --plan $media/rendered.plan.yaml"
+# The three commands take turns in every round, so a change in the shared
+# host's load hits them alike; the ratios are taken within each round.
+commands=("ffmpeg -v error -i $video -map 0:v -f null -"
+  "$validate --out $media/report-full"
+  "$validate --windows-only --out $media/report-windows")
+: > "$media/times.txt"
+for round in $(seq "$runs"); do
+  line="$round"
+  for command in "${commands[@]}"; do
+    start=$EPOCHREALTIME
+    $command >/dev/null
+    line="$line $(python3 -c "print($EPOCHREALTIME - $start)")"
+  done
+  echo "$line" | tee -a "$media/times.txt"
+done
+python3 - "$media/times.txt" <<'PY'
+import statistics, sys
+rounds = [list(map(float, line.split()[1:])) for line in open(sys.argv[1])]
+decode, full, windows = (statistics.median(r[k] for r in rounds) for k in range(3))
+over_decode = statistics.median(r[1] / r[0] for r in rounds)
+over_windows = statistics.median(r[1] / r[2] for r in rounds)
+print(f"decode only (ffmpeg -f null)     median {decode:7.2f} s")
+print(f"validate (every frame)           median {full:7.2f} s")
+print(f"validate --windows-only          median {windows:7.2f} s")
+print(f"every frame / decode only:       {over_decode:.3f}  (median of {len(rounds)} rounds; target <= 1.15)")
+print(f"every frame / windows only:      {over_windows:.1f}  (median of {len(rounds)} rounds; target >= 10)")
+PY
