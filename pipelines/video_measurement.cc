@@ -358,7 +358,13 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
                        m.every_frame ? info.frame_count : frames_wanted,
                        options.progress);
   std::atomic<int64_t> frames_done{0};
+  const int jobs =
+      m.every_frame ? 1
+                    : static_cast<int>(std::min<size_t>(
+                          std::max<size_t>(spans.size(), 1),
+                          std::max(1u, std::thread::hardware_concurrency())));
   std::vector<SpanMeasurer> measurers;
+  measurers.reserve(jobs);  // the copies below refer to the first one
   measurers.emplace_back(
       plan, video_path, m.mm_per_px,
       HeadTracker(mapping, PlanHeadMarkers(plan), options.tracker),
@@ -376,8 +382,6 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
     measurers.front().Measure(
         {spans.front().start_s, spans.front().start_s + half_frame_s}, true,
         [] {});
-    const int jobs = static_cast<int>(std::min<size_t>(
-        spans.size(), std::max(1u, std::thread::hardware_concurrency())));
     for (int j = 1; j < jobs; ++j) {
       measurers.emplace_back(plan, video_path, m.mm_per_px,
                              measurers.front().tracker(), snapshot_times, 1,
