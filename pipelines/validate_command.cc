@@ -217,11 +217,11 @@ VideoValidation ValidateVideo(TestPlan plan,
     // on the way, and in windows-only mode they are all that is read.
     VideoReaderOptions probe;
     probe.want_luma = probe.want_bgr = false;
-    const VideoInfo info = VideoReader(video_path, probe).info();
-    for (const auto& test :
-         PlanWindows(plan, (info.frame_count - 1) / info.fps)) {
+    const auto windows =
+        PlanWindows(plan, VideoReader(video_path, probe).info().LastFrameS());
+    measure.snapshot_times_s = WindowMiddles(windows);
+    for (const auto& test : windows) {
       for (const WindowSummary& w : test) {
-        measure.snapshot_times_s.push_back(0.5 * (w.start_s + w.end_s));
         if (options.windows_only) measure.spans.push_back({w.start_s, w.end_s});
       }
     }
@@ -262,13 +262,9 @@ VideoValidation ValidateVideo(TestPlan plan,
   ValidationResult result = ScoreTests(plan, m, options.validation);
   result.times_source = times_source;
   if (!times_known) {
-    std::vector<double> times;
-    for (const TestScore& t : result.tests) {
-      for (const WindowSummary& w : t.windows) {
-        times.push_back(0.5 * (w.start_s + w.end_s));
-      }
-    }
-    CaptureSnapshots(plan, times, &m);
+    // The plan has its times now.
+    CaptureSnapshots(plan, WindowMiddles(PlanWindows(plan, m.last_frame_s)),
+                     &m);
   }
   return {std::move(plan), std::move(m), std::move(result)};
 }

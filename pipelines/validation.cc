@@ -113,6 +113,17 @@ std::vector<std::array<WindowSummary, 3>> PlanWindows(const TestPlan& plan,
   return windows;
 }
 
+std::vector<double> WindowMiddles(
+    const std::vector<std::array<WindowSummary, 3>>& windows) {
+  std::vector<double> middles;
+  for (const auto& test : windows) {
+    for (const WindowSummary& w : test) middles.push_back(w.middle_s());
+  }
+  std::sort(middles.begin(), middles.end());
+  middles.erase(std::unique(middles.begin(), middles.end()), middles.end());
+  return middles;
+}
+
 void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
                      WindowSummary* window) {
   window->frames = 0;

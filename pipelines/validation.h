@@ -39,6 +39,9 @@ struct WindowSummary {
   // (1.4826 x median absolute deviation), NaN when not measured.
   std::vector<Eigen::Vector2d> median_mm;
   std::vector<Eigen::Vector2d> spread_mm;
+
+  // The frame the report shows for the window.
+  double middle_s() const { return 0.5 * (start_s + end_s); }
 };
 
 struct HeadScore {
@@ -97,6 +100,11 @@ struct ValidationResult {
 // actuation (the video's end for the last test). Needs plan.HasTimes().
 std::vector<std::array<WindowSummary, 3>> PlanWindows(const TestPlan& plan,
                                                       double video_end_s);
+
+// The middles of all windows, sorted, each once (a test's final window is
+// the next one's initial window).
+std::vector<double> WindowMiddles(
+    const std::vector<std::array<WindowSummary, 3>>& windows);
 
 // Summarises the measured frames in a window.
 void SummariseWindow(const VideoMeasurement& measurement, int num_heads,

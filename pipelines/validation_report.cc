@@ -246,7 +246,7 @@ void AddCrops(const TestPlan& plan, const VideoMeasurement& m,
       std::vector<HtmlReport::Figure> figures;
       for (int k = 0; k < 3; ++k) {
         const WindowSummary& w = t.windows[k];
-        const auto it = by_time.find(0.5 * (w.start_s + w.end_s));
+        const auto it = by_time.find(w.middle_s());
         if (it == by_time.end() || it->second->heads[h].bgr.empty()) continue;
         const FrameSnapshot& snapshot = *it->second;
         const FrameSample* sample = FindFrame(m, snapshot.time_s);

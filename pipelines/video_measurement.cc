@@ -62,19 +62,10 @@ PlaneMapping MappingFromTag(const TestPlan& plan, const std::string& path,
       if (d.id == tag.id) {
         found.push_back(d.corners);
         if (region.empty()) {
-          Eigen::Vector2d low = d.corners[0], high = d.corners[0];
-          for (const Eigen::Vector2d& corner : d.corners) {
-            low = low.cwiseMin(corner);
-            high = high.cwiseMax(corner);
-          }
-          const Eigen::Vector2d grow = 0.5 * (high - low);
-          low -= grow;
-          high += grow;
-          region = cv::Rect(cv::Point(static_cast<int>(low.x()),
-                                      static_cast<int>(low.y())),
-                            cv::Point(static_cast<int>(high.x()) + 1,
-                                      static_cast<int>(high.y()) + 1)) &
-                   cv::Rect(0, 0, frame.luma.cols, frame.luma.rows);
+          const double side_px =
+              (d.corners[0] - d.corners[2]).norm() / std::numbers::sqrt2;
+          region = BoxAround({d.corners.begin(), d.corners.end()},
+                             0.5 * side_px, frame.luma.size());
         }
       } else {
         other_ids.insert(d.id);
@@ -329,6 +320,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
       PlanIntrinsics(plan, info.width_px, info.height_px);
   VideoMeasurement m;
   m.video_path = video_path;
+  m.fps = info.fps;
   const CalibrationSpec& c = plan.calibration;
   const PlaneMapping mapping = PlanMapping(plan, video_path, intrinsics,
                                            options.tag_frames, &m.scale_source);
@@ -348,15 +340,15 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   } else {
     spans = MergeSpans(options.spans, info.duration_s, half_frame_s);
   }
-  int64_t frames_wanted = 0;
-  for (const TimeSpan& span : spans) {
-    frames_wanted += static_cast<int64_t>(std::ceil(
-        (std::min(span.end_s, info.duration_s) - std::max(span.start_s, 0.0)) *
-        info.fps));
+  int64_t frames_wanted = info.frame_count;
+  if (!m.every_frame) {
+    frames_wanted = 0;
+    for (const TimeSpan& span : spans) {
+      frames_wanted += static_cast<int64_t>(std::ceil(
+          (std::min(span.end_s, info.duration_s) - span.start_s) * info.fps));
+    }
   }
-  ProgressBar progress("measure",
-                       m.every_frame ? info.frame_count : frames_wanted,
-                       options.progress);
+  ProgressBar progress("measure", frames_wanted, options.progress);
   std::atomic<int64_t> frames_done{0};
   const int jobs =
       m.every_frame ? 1
@@ -401,8 +393,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
   if (m.frames.empty())
     throw InputError(video_path + ": the video has no frames");
-  m.last_frame_s = m.every_frame ? m.frames.back().time_s
-                                 : (info.frame_count - 1) / info.fps;
+  m.last_frame_s = m.every_frame ? m.frames.back().time_s : info.LastFrameS();
 
   // Rest: before the first actuation when the plan has times.
   double rest_end = options.rest_s;
@@ -445,24 +436,14 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
 
 const FrameSample* FindFrame(const VideoMeasurement& measurement,
                              double time_s) {
+  // Frames are 1 / fps apart: at most one is within half a frame.
   const std::vector<FrameSample>& frames = measurement.frames;
-  const auto after = std::lower_bound(
-      frames.begin(), frames.end(), time_s,
+  const double half_frame_s = 0.5 / measurement.fps + 1e-9;
+  const auto it = std::lower_bound(
+      frames.begin(), frames.end(), time_s - half_frame_s,
       [](const FrameSample& f, double t) { return f.time_s < t; });
-  const FrameSample* best = nullptr;
-  for (auto it : {after - (after != frames.begin() ? 1 : 0), after}) {
-    if (it == frames.end()) continue;
-    if (best == nullptr ||
-        std::abs(it->time_s - time_s) < std::abs(best->time_s - time_s)) {
-      best = &*it;
-    }
-  }
-  if (best == nullptr || frames.size() < 2) return best;
-  const double frame_s =
-      (frames.back().time_s - frames.front().time_s) /
-      static_cast<double>(frames.back().frame - frames.front().frame);
-  return std::abs(best->time_s - time_s) <= 0.5 * frame_s + 1e-9 ? best
-                                                                 : nullptr;
+  return it != frames.end() && it->time_s <= time_s + half_frame_s ? &*it
+                                                                   : nullptr;
 }
 
 FrameSnapshot SnapshotHeads(const FrameSource& frame, const FrameSample& sample,
@@ -475,23 +456,16 @@ FrameSnapshot SnapshotHeads(const FrameSource& frame, const FrameSample& sample,
   for (size_t h = 0; h < sample.heads.size(); ++h) {
     const HeadObservation& obs = sample.heads[h].observation;
     HeadCrop& crop = snapshot.heads.emplace_back();
-    Eigen::Vector2d low = obs.pixel, high = obs.pixel;
+    std::vector<Eigen::Vector2d> dots;
     for (const DotObservation& dot : obs.dots) {
-      if (!dot.found) continue;
-      low = low.cwiseMin(dot.pixel);
-      high = high.cwiseMax(dot.pixel);
+      if (dot.found) dots.push_back(dot.pixel);
     }
-    if (!low.allFinite()) continue;
-    const double margin_px =
-        2.5 * plan.markers[h].dot_diameter_mm / std::max(mm_per_px, 1e-9);
-    const cv::Rect box(cv::Point(static_cast<int>(low.x() - margin_px),
-                                 static_cast<int>(low.y() - margin_px)),
-                       cv::Point(static_cast<int>(high.x() + margin_px),
-                                 static_cast<int>(high.y() + margin_px)));
+    const cv::Rect box = BoxAround(
+        dots, 2.5 * plan.markers[h].dot_diameter_mm / std::max(mm_per_px, 1e-9),
+        frame.luma().size());
+    if (box.empty()) continue;
     crop.bgr = frame.BgrRegion(box);
-    const cv::Rect clipped =
-        box & cv::Rect(0, 0, frame.luma().cols, frame.luma().rows);
-    crop.origin_px = Eigen::Vector2d(clipped.x, clipped.y);
+    crop.origin_px = Eigen::Vector2d(box.x, box.y);
   }
   return snapshot;
 }

@@ -81,6 +81,7 @@ struct VideoMeasurement {
   double mm_per_px = 0.0;    // at the image centre, dot plane
   std::vector<Eigen::Vector2d> rest_mm;  // per head, plane coordinates
   std::vector<FrameSample> frames;       // in time order
+  double fps = 0.0;
   // Time of the video's last frame (its end, as far as windows go).
   double last_frame_s = 0.0;
   bool every_frame = true;  // false: only the requested spans were read

@@ -1,8 +1,25 @@
 #include "vision/frame_source.h"
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace softbench {
+
+cv::Rect BoxAround(const std::vector<Eigen::Vector2d>& points, double margin_px,
+                   const cv::Size& size) {
+  if (points.empty()) return {};
+  Eigen::Vector2d low = points.front(), high = low;
+  for (const Eigen::Vector2d& p : points) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  return cv::Rect(
+             cv::Point(static_cast<int>(std::floor(low.x() - margin_px)),
+                       static_cast<int>(std::floor(low.y() - margin_px))),
+             cv::Point(static_cast<int>(std::ceil(high.x() + margin_px)),
+                       static_cast<int>(std::ceil(high.y() + margin_px)))) &
+         cv::Rect(cv::Point(0, 0), size);
+}
 
 ImageFrameSource::ImageFrameSource(const cv::Mat& bgr, double time_s)
     : bgr_(bgr), time_s_(time_s) {

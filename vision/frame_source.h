@@ -1,11 +1,18 @@
 #ifndef SOFTBENCH_VISION_FRAME_SOURCE_H_
 #define SOFTBENCH_VISION_FRAME_SOURCE_H_
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "vision/video_reader.h"
 
 namespace softbench {
+
+// The whole-pixel box holding `points` grown by `margin_px` on every side,
+// clipped to an image of `size` (empty when no point is given).
+cv::Rect BoxAround(const std::vector<Eigen::Vector2d>& points, double margin_px,
+                   const cv::Size& size);
 
 // What measuring one frame reads: its full-resolution luma, which locates
 // edges, and the colour of chosen regions, which finds and names dots. A

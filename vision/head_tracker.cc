@@ -77,18 +77,9 @@ void HeadTracker::ForgetPositions() { relocate_ = true; }
 
 bool HeadTracker::Relocate(const FrameSource& frame, int head,
                            HeadObservation* out) {
-  Eigen::Vector2d low = last_pixels_[head].front(), high = low;
-  for (const Eigen::Vector2d& p : last_pixels_[head]) {
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-  }
-  const double margin = options_.relocate_radius_factor * radius_px_[head];
-  const cv::Rect region =
-      cv::Rect(cv::Point(static_cast<int>(std::floor(low.x() - margin)),
-                         static_cast<int>(std::floor(low.y() - margin))),
-               cv::Point(static_cast<int>(std::ceil(high.x() + margin)),
-                         static_cast<int>(std::ceil(high.y() + margin)))) &
-      cv::Rect(0, 0, frame.luma().cols, frame.luma().rows);
+  const cv::Rect region = BoxAround(
+      last_pixels_[head], options_.relocate_radius_factor * radius_px_[head],
+      frame.luma().size());
   const cv::Mat bgr = frame.BgrRegion(region);
   if (bgr.empty()) return false;
   HeadObservation found = *out;

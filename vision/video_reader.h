@@ -36,6 +36,9 @@ struct VideoInfo {
   int64_t frame_count = 0;  // from the container's sample table
   double duration_s = 0.0;
   int rotation_deg = 0;  // clockwise rotation applied to decoded frames
+
+  // Start time of the last frame (where windows must end).
+  double LastFrameS() const { return (frame_count - 1) / fps; }
 };
 
 // The one video reader of softbench (MP4/MOV with H.264 or HEVC, anything

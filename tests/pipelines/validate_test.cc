@@ -86,8 +86,7 @@ ValidationResult CheckSample(const std::string& name, bool windows_only) {
   measure.progress = false;
   if (windows_only) {
     const VideoInfo info = VideoReader(dir + "/" + name + ".mp4").info();
-    for (const auto& windows :
-         PlanWindows(plan, (info.frame_count - 1) / info.fps)) {
+    for (const auto& windows : PlanWindows(plan, info.LastFrameS())) {
       for (const WindowSummary& w : windows) {
         measure.spans.push_back({w.start_s, w.end_s});
       }
