@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
 
 namespace softbench {
 
@@ -16,20 +17,23 @@ EquilibriumProblem::EquilibriumProblem(const Mechanism& mechanism,
   links_.reserve(mechanism_.actuators.size());
   for (const Actuator& actuator : mechanism_.actuators) {
     const bool on_head = actuator.anchor.kind == AnchorRef::Kind::kHead;
-    links_.push_back({RotationX(mechanism_.RestAxisRotation(actuator)),
+    const Eigen::Matrix2d world_from_local =
+        RotationX(mechanism_.RestAxisRotation(actuator));
+    links_.push_back({world_from_local(0, 0), world_from_local(1, 0),
+                      mechanism_.heads[actuator.head].rest_mm -
+                          mechanism_.AnchorRestPosition(actuator),
                       mechanism_.RestLength(actuator), actuator.head,
-                      on_head ? actuator.anchor.index : -1,
-                      mechanism_.AnchorRestPosition(actuator)});
+                      on_head ? actuator.anchor.index : -1});
   }
 }
 
 Eigen::Vector2d EquilibriumProblem::LocalVector(
     const Link& link, const Eigen::VectorXd& x) const {
-  Eigen::Vector2d head =
-      mechanism_.heads[link.head].rest_mm + x.segment<2>(2 * link.head);
-  Eigen::Vector2d anchor = link.anchor_rest_mm;
-  if (link.anchor_head >= 0) anchor += x.segment<2>(2 * link.anchor_head);
-  return link.world_from_local.transpose() * (head - anchor);  // v = R^T(h-a)
+  Eigen::Vector2d w = link.rest_vector_mm + x.segment<2>(2 * link.head);
+  if (link.anchor_head >= 0) w -= x.segment<2>(2 * link.anchor_head);
+  // v = R^T w.
+  return {link.cos_axis * w.x() + link.sin_axis * w.y(),
+          -link.sin_axis * w.x() + link.cos_axis * w.y()};
 }
 
 bool EquilibriumProblem::Evaluate(const Eigen::VectorXd& pressures_mpa,
@@ -43,79 +47,95 @@ bool EquilibriumProblem::Evaluate(const Eigen::VectorXd& pressures_mpa,
   if (jacobian_x) jacobian_x->setZero(n, n);
   if (jacobian_pressure) jacobian_pressure->setZero(n, NumActuators());
 
-  // Written out in scalars in the world frame: this loop is the cost of every
-  // Newton iteration and every workspace point.
-  for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
-    const Link& link = links_[k];
-    const int h = 2 * link.head;
-    const int a = 2 * link.anchor_head;
-    // w = h - a in the world frame; v = R^T w in the local frame.
-    double wy = mechanism_.heads[link.head].rest_mm.x() + x[h] -
-                link.anchor_rest_mm.x();
-    double wz = mechanism_.heads[link.head].rest_mm.y() + x[h + 1] -
-                link.anchor_rest_mm.y();
-    if (link.anchor_head >= 0) {
-      wy -= x[a];
-      wz -= x[a + 1];
-    }
-    const double c = link.world_from_local(0, 0);  // R = [[c, -s], [s, c]]
-    const double s = link.world_from_local(1, 0);
-    const double vy = c * wy + s * wz;
-    const double vz = -s * wy + c * wz;
-    const double length_sq = wy * wy + wz * wz;
-    const double length = std::sqrt(length_sq);
-    if (!(length > 1e-9 * link.rest_length_mm)) return false;
-    // dL and theta as defined in model.md ("One actuator").
-    const Deformation deformation{length - link.rest_length_mm,
-                                  std::atan2(-vy, vz)};
-    const ActuatorForce force =
-        EvaluateActuatorForce(model_, pressures_mpa[k], deformation);
-    // World force R F_local on the head; the anchor end feels the opposite.
-    const double fy =
-        c * force.force_in_local_n.x() - s * force.force_in_local_n.y();
-    const double fz =
-        s * force.force_in_local_n.x() + c * force.force_in_local_n.y();
-    (*residual_n)[h] += fy;
-    (*residual_n)[h + 1] += fz;
-    if (link.anchor_head >= 0) {
-      (*residual_n)[a] -= fy;
-      (*residual_n)[a + 1] -= fz;
-    }
-
-    if (jacobian_x) {
-      // dF_world/dh = R (dF/d(dL) d(dL)/dv^T + dF/dtheta d(theta)/dv^T) R^T
-      //             = (R dF/d(dL)) u^T + (R dF/dtheta) (perp(w) / |w|^2)^T,
-      // since d(dL)/dv = v/|v| maps to u = w/|w|, d(theta)/dv =
-      // (-v_z, v_y)/|v|^2 maps to perp(w) = (-w_z, w_y), and R commutes with
-      // the quarter turn.
-      const Eigen::Vector2d& dl = force.d_force_d_delta_length;
-      const Eigen::Vector2d& dt = force.d_force_d_theta;
-      const double ly = c * dl.x() - s * dl.y(), lz = s * dl.x() + c * dl.y();
-      const double ty = c * dt.x() - s * dt.y(), tz = s * dt.x() + c * dt.y();
-      const double uy = wy / length, uz = wz / length;
-      const double py = -wz / length_sq, pz = wy / length_sq;
-      const double g00 = ly * uy + ty * py, g01 = ly * uz + ty * pz;
-      const double g10 = lz * uy + tz * py, g11 = lz * uz + tz * pz;
-      Eigen::MatrixXd& j = *jacobian_x;
-      j(h, h) += g00, j(h, h + 1) += g01, j(h + 1, h) += g10,
-          j(h + 1, h + 1) += g11;
+  // Written out in scalars in the world frame: these loops are the cost of
+  // every Newton iteration and every workspace point. Links go in batches:
+  // first the geometry of the whole batch, whose square roots and arc
+  // tangents do not depend on each other and so overlap in the processor,
+  // then the forces.
+  constexpr int kBatch = 8;
+  const int num_links = static_cast<int>(links_.size());
+  for (int first = 0; first < num_links; first += kBatch) {
+    const int batch = std::min(kBatch, num_links - first);
+    double w_y[kBatch], w_z[kBatch], lengths_sq[kBatch], lengths[kBatch],
+        thetas[kBatch];
+    for (int i = 0; i < batch; ++i) {
+      const Link& link = links_[first + i];
+      // w = h - a in the world frame; v = R^T w in the local frame.
+      double wy = link.rest_vector_mm.x() + x[2 * link.head];
+      double wz = link.rest_vector_mm.y() + x[2 * link.head + 1];
       if (link.anchor_head >= 0) {
-        j(h, a) -= g00, j(h, a + 1) -= g01, j(h + 1, a) -= g10,
-            j(h + 1, a + 1) -= g11;
-        j(a, h) -= g00, j(a, h + 1) -= g01, j(a + 1, h) -= g10,
-            j(a + 1, h + 1) -= g11;
-        j(a, a) += g00, j(a, a + 1) += g01, j(a + 1, a) += g10,
-            j(a + 1, a + 1) += g11;
+        wy -= x[2 * link.anchor_head];
+        wz -= x[2 * link.anchor_head + 1];
       }
+      w_y[i] = wy;
+      w_z[i] = wz;
+      lengths_sq[i] = wy * wy + wz * wz;
+      lengths[i] = std::sqrt(lengths_sq[i]);
+      const double vy = link.cos_axis * wy + link.sin_axis * wz;
+      const double vz = -link.sin_axis * wy + link.cos_axis * wz;
+      thetas[i] = std::atan2(-vy, vz);  // theta as defined in model.md
     }
-    if (jacobian_pressure) {
-      const Eigen::Vector2d& dp = force.d_force_d_pressure;
-      const double py = c * dp.x() - s * dp.y(), pz = s * dp.x() + c * dp.y();
-      (*jacobian_pressure)(h, k) += py;
-      (*jacobian_pressure)(h + 1, k) += pz;
+    for (int i = 0; i < batch; ++i) {
+      const int k = first + i;
+      const Link& link = links_[k];
+      if (!(lengths[i] > 1e-9 * link.rest_length_mm)) return false;
+      const int h = 2 * link.head;
+      const int a = 2 * link.anchor_head;
+      const double c = link.cos_axis;  // R = [[c, -s], [s, c]]
+      const double s = link.sin_axis;
+      const double wy = w_y[i], wz = w_z[i];
+      const double length = lengths[i], length_sq = lengths_sq[i];
+      // dL as defined in model.md ("One actuator").
+      const Deformation deformation{length - link.rest_length_mm, thetas[i]};
+      const ActuatorForce force =
+          EvaluateActuatorForce(model_, pressures_mpa[k], deformation);
+      // World force R F_local on the head; the anchor end feels the opposite.
+      const double fy =
+          c * force.force_in_local_n.x() - s * force.force_in_local_n.y();
+      const double fz =
+          s * force.force_in_local_n.x() + c * force.force_in_local_n.y();
+      (*residual_n)[h] += fy;
+      (*residual_n)[h + 1] += fz;
       if (link.anchor_head >= 0) {
-        (*jacobian_pressure)(a, k) -= py;
-        (*jacobian_pressure)(a + 1, k) -= pz;
+        (*residual_n)[a] -= fy;
+        (*residual_n)[a + 1] -= fz;
+      }
+
+      if (jacobian_x) {
+        // dF_world/dh = R (dF/d(dL) d(dL)/dv^T + dF/dtheta d(theta)/dv^T) R^T
+        //             = (R dF/d(dL)) u^T + (R dF/dtheta) (perp(w) / |w|^2)^T,
+        // since d(dL)/dv = v/|v| maps to u = w/|w|, d(theta)/dv =
+        // (-v_z, v_y)/|v|^2 maps to perp(w) = (-w_z, w_y), and R commutes with
+        // the quarter turn.
+        const Eigen::Vector2d& dl = force.d_force_d_delta_length;
+        const Eigen::Vector2d& dt = force.d_force_d_theta;
+        const double ly = c * dl.x() - s * dl.y(), lz = s * dl.x() + c * dl.y();
+        const double ty = c * dt.x() - s * dt.y(), tz = s * dt.x() + c * dt.y();
+        const double uy = wy / length, uz = wz / length;
+        const double py = -wz / length_sq, pz = wy / length_sq;
+        const double g00 = ly * uy + ty * py, g01 = ly * uz + ty * pz;
+        const double g10 = lz * uy + tz * py, g11 = lz * uz + tz * pz;
+        Eigen::MatrixXd& j = *jacobian_x;
+        j(h, h) += g00, j(h, h + 1) += g01, j(h + 1, h) += g10,
+            j(h + 1, h + 1) += g11;
+        if (link.anchor_head >= 0) {
+          j(h, a) -= g00, j(h, a + 1) -= g01, j(h + 1, a) -= g10,
+              j(h + 1, a + 1) -= g11;
+          j(a, h) -= g00, j(a, h + 1) -= g01, j(a + 1, h) -= g10,
+              j(a + 1, h + 1) -= g11;
+          j(a, a) += g00, j(a, a + 1) += g01, j(a + 1, a) += g10,
+              j(a + 1, a + 1) += g11;
+        }
+      }
+      if (jacobian_pressure) {
+        const Eigen::Vector2d& dp = force.d_force_d_pressure;
+        const double py = c * dp.x() - s * dp.y(), pz = s * dp.x() + c * dp.y();
+        (*jacobian_pressure)(h, k) += py;
+        (*jacobian_pressure)(h + 1, k) += pz;
+        if (link.anchor_head >= 0) {
+          (*jacobian_pressure)(a, k) -= py;
+          (*jacobian_pressure)(a + 1, k) -= pz;
+        }
       }
     }
   }
@@ -171,6 +191,8 @@ EquilibriumSolver::EquilibriumSolver(const EquilibriumProblem& problem,
       jacobian_(problem.NumUnknowns(), problem.NumUnknowns()),
       trial_jacobian_(problem.NumUnknowns(), problem.NumUnknowns()),
       normal_matrix_(problem.NumUnknowns(), problem.NumUnknowns()),
+      curvature_(problem.NumUnknowns(), problem.NumActuators()),
+      has_curvature_(problem.NumActuators(), false),
       lu_(problem.NumUnknowns()) {
   assert(!options_.Check());
 }
@@ -239,18 +261,37 @@ void SolveLinear(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
 
 void EquilibriumSolver::PredictSolution(const Eigen::VectorXd& pressures_mpa,
                                         Eigen::VectorXd* x) {
+  predicted_axis_ = -1;
   if (!has_solution_) return;
   // The net force is linear in P, so at the last solution
   //   R(x + dx, P + dP) ~ J dx + dR/dP dP = 0.
-  SolveLinear(jacobian_, jacobian_pressure_ * (pressures_mpa - last_pressures_),
-              &lu_, &step_);
-  if (step_.allFinite()) *x -= step_;
+  step_pressures_ = pressures_mpa - last_pressures_;
+  tangent_rhs_.noalias() = jacobian_pressure_ * step_pressures_;
+  SolveLinear(jacobian_, tangent_rhs_, &lu_, &step_);
+  if (!step_.allFinite()) return;
+  linear_prediction_ = last_solution_ - step_;  // x_last + x'
+  *x = linear_prediction_;
+
+  int axis = -1;
+  for (int a = 0; a < step_pressures_.size(); ++a) {
+    if (step_pressures_[a] == 0.0) continue;
+    if (axis >= 0) return;  // several actuators change: first order only
+    axis = a;
+  }
+  if (axis < 0) return;
+  predicted_axis_ = axis;
+  predicted_step_mpa_ = step_pressures_[axis];
+  if (has_curvature_[axis]) {
+    *x += curvature_.col(axis) * (predicted_step_mpa_ * predicted_step_mpa_);
+  }
 }
 
 EquilibriumSummary EquilibriumSolver::Solve(
     const Eigen::VectorXd& pressures_mpa, Eigen::VectorXd* x) {
   EquilibriumSummary summary;
   has_solution_ = false;
+  // A prediction is for the one solve that follows it.
+  const int predicted_axis = std::exchange(predicted_axis_, -1);
   if (!problem_.Evaluate(pressures_mpa, *x, &residual_, &jacobian_,
                          &jacobian_pressure_)) {
     summary.termination = EquilibriumTermination::kInvalidStartingPoint;
@@ -261,8 +302,17 @@ EquilibriumSummary EquilibriumSolver::Solve(
     summary.max_residual_n = residual_.lpNorm<Eigen::Infinity>();
     if (summary.max_residual_n <= options_.function_tolerance_n) {
       summary.termination = EquilibriumTermination::kConverged;
-      has_solution_ = true;
+      // What the first-order prediction missed is (1/2) x'' dP^2 to third
+      // order: remember it for the next step of the same actuator.
+      if (predicted_axis >= 0) {
+        curvature_.col(predicted_axis) =
+            (*x - linear_prediction_) /
+            (predicted_step_mpa_ * predicted_step_mpa_);
+        has_curvature_[predicted_axis] = true;
+      }
+      last_solution_ = *x;
       last_pressures_ = pressures_mpa;
+      has_solution_ = true;
       return summary;
     }
     if (summary.iterations == options_.max_iterations) {

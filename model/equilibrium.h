@@ -43,11 +43,15 @@ class EquilibriumProblem {
  private:
   // Geometry of one actuator, precomputed from the mechanism.
   struct Link {
-    Eigen::Matrix2d world_from_local;
+    // world_from_local = [[cos, -sin], [sin, cos]] of the rest axis.
+    double cos_axis, sin_axis;
+    // The head's rest position minus the anchor's [mm], world frame: the
+    // actuator's vector is this plus the head's minus the anchor's
+    // displacement.
+    Eigen::Vector2d rest_vector_mm;
     double rest_length_mm;
     int head;
     int anchor_head;  // -1 for a fixed anchor
-    Eigen::Vector2d anchor_rest_mm;
   };
   Eigen::Vector2d LocalVector(const Link& link, const Eigen::VectorXd& x) const;
 
@@ -106,12 +110,20 @@ class EquilibriumSolver {
   EquilibriumSummary Solve(const Eigen::VectorXd& pressures_mpa,
                            Eigen::VectorXd* x);
 
-  // Continuation (Euler) predictor: when the last Solve() converged and *x is
-  // its solution, moves *x along the solution's tangent to the new pressures,
-  //   dx = -J^-1 (dR/dP) (P_new - P_last),
-  // which is exact to first order because the net force is linear in P. A
-  // solve started there needs one Newton iteration fewer. Does nothing when
-  // the last solve did not converge.
+  // Continuation predictor: when the last Solve() converged, sets *x to a
+  // prediction of the solution at the new pressures, so that the solve
+  // started there needs fewer Newton iterations. To first order it moves
+  // along the solution path's tangent
+  //   x' = -J^-1 (dR/dP) (P_new - P_last),
+  // exact to first order because the net force is linear in P. When only one
+  // actuator's pressure changes (a sweep), it adds the second-order term
+  // (1/2) x'' dP^2 along that actuator, remembered from the last solve that
+  // stepped the same actuator: the difference between where that solve
+  // converged and its first-order prediction, per MPa^2. The curvature of the
+  // solution path changes little from one configuration to its neighbours,
+  // so the error left is third order in the step. Leaves *x alone when the
+  // last solve did not converge. The prediction is for the next Solve(),
+  // which must be at the same pressures.
   void PredictSolution(const Eigen::VectorXd& pressures_mpa,
                        Eigen::VectorXd* x);
 
@@ -125,7 +137,20 @@ class EquilibriumSolver {
   Eigen::MatrixXd jacobian_, trial_jacobian_, normal_matrix_;
   // d(residual)/dP at the current and trial iterates, for the predictor.
   Eigen::MatrixXd jacobian_pressure_, trial_jacobian_pressure_;
-  Eigen::VectorXd last_pressures_;
+  // The last converged solution and its pressures, for the predictor.
+  Eigen::VectorXd last_solution_, last_pressures_;
+  // Column a: the remembered second-order term of the solution path along
+  // actuator a [mm/MPa^2], valid where has_curvature_[a].
+  Eigen::MatrixXd curvature_;
+  std::vector<bool> has_curvature_;
+  // The last prediction's first-order part, the actuator it stepped (-1 when
+  // several or none changed) and its step [MPa]: Solve() learns the
+  // curvature from them.
+  Eigen::VectorXd linear_prediction_;
+  int predicted_axis_ = -1;
+  double predicted_step_mpa_ = 0.0;
+  // PredictSolution's workspace.
+  Eigen::VectorXd step_pressures_, tangent_rhs_;
   bool has_solution_ = false;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   double damping_ = 1e-6;

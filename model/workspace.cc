@@ -1,6 +1,7 @@
 #include "model/workspace.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <thread>
@@ -49,6 +50,10 @@ class GrayCounter {
   std::vector<int> counter_, gray_;
 };
 
+// Configurations per run of the Gray-code order that one thread solves in
+// sequence (see ComputeWorkspace).
+constexpr long long kRunLength = 128;
+
 }  // namespace
 
 std::vector<double> EvenPressureLevels(double max_mpa, int num_intervals) {
@@ -90,6 +95,13 @@ std::vector<HeadExtents> WorkspaceMap::Extents() const {
 
 WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
                               const WorkspaceOptions& options) {
+  WorkspaceMap map;
+  ComputeWorkspace(problem, options, &map);
+  return map;
+}
+
+void ComputeWorkspace(const EquilibriumProblem& problem,
+                      const WorkspaceOptions& options, WorkspaceMap* map_out) {
   assert(!options.Check());
   const int radix = static_cast<int>(options.pressure_levels_mpa.size());
   const int num_actuators = problem.NumActuators();
@@ -97,14 +109,20 @@ WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
   long long count = 1;
   for (int i = 0; i < num_actuators; ++i) count *= radix;
 
-  WorkspaceMap map;
+  WorkspaceMap& map = *map_out;
   map.pressures_mpa.resize(count, num_actuators);
   map.displacements_mm.resize(count, n);
   map.summaries.resize(count);
 
+  // The Gray-code order is cut into runs of a fixed length that threads take
+  // one at a time: a thread that starts late or shares its core with other
+  // work takes fewer runs instead of holding everyone up, and the map does
+  // not depend on the number of threads. Each run starts from rest; longer
+  // runs would spend fewer cold starts but balance the threads worse.
+  const long long num_runs = (count + kRunLength - 1) / kRunLength;
   const int hardware = static_cast<int>(std::thread::hardware_concurrency());
   const int num_threads = static_cast<int>(std::min<long long>(
-      count,
+      num_runs,
       options.num_threads > 0 ? options.num_threads : std::max(1, hardware)));
   const auto solve_run = [&](long long begin, long long end) {
     EquilibriumSolver solver(problem, options.equilibrium);
@@ -134,17 +152,19 @@ WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
     }
   };
 
+  std::atomic<long long> next_run{0};
+  const auto take_runs = [&] {
+    for (long long run; (run = next_run.fetch_add(1)) < num_runs;) {
+      solve_run(run * kRunLength, std::min(count, (run + 1) * kRunLength));
+    }
+  };
   std::vector<std::thread> workers;
-  for (int t = 1; t < num_threads; ++t) {
-    workers.emplace_back(solve_run, count * t / num_threads,
-                         count * (t + 1) / num_threads);
-  }
-  solve_run(0, count / num_threads);
+  for (int t = 1; t < num_threads; ++t) workers.emplace_back(take_runs);
+  take_runs();
   for (std::thread& worker : workers) worker.join();
   map.num_not_converged = static_cast<int>(std::count_if(
       map.summaries.begin(), map.summaries.end(),
       [](const EquilibriumSummary& s) { return !s.converged(); }));
-  return map;
 }
 
 }  // namespace softbench

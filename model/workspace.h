@@ -52,6 +52,11 @@ struct WorkspaceMap {
 // rest state before it is reported as not converged.
 WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
                               const WorkspaceOptions& options);
+// The same into *map, reusing its storage when it already has the map's size:
+// a caller that sweeps many maps (other constants, other levels) then pays
+// for the memory once, not per map.
+void ComputeWorkspace(const EquilibriumProblem& problem,
+                      const WorkspaceOptions& options, WorkspaceMap* map);
 
 }  // namespace softbench
 

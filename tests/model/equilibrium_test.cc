@@ -194,5 +194,51 @@ TEST(EquilibriumSolver, RecoversFromAFarStartingPoint) {
   EXPECT_LT((far - SolveOrFail(problem, p)).norm(), 1e-8);
 }
 
+// The prediction's error at the solution a step h away along actuator 1 of
+// the floating mechanism, from (3, 2, 4, 1, 2) psi. With `learn`, the solver
+// first steps to the base from h behind, which teaches it the path's
+// curvature along that actuator.
+double PredictionError(double h_psi, bool learn) {
+  const EquilibriumProblem problem(testing::FloatingMechanism(),
+                                   ForceModel::VariableMomentArm({}));
+  EquilibriumSolver solver(problem);
+  const Eigen::VectorXd base = Psi({3, 2, 4, 1, 2});
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(5);
+  step[1] = h_psi * kMpaPerPsi;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(4);
+  if (learn) EXPECT_TRUE(solver.Solve(base - step, &x).converged());
+  solver.PredictSolution(base, &x);
+  EXPECT_TRUE(solver.Solve(base, &x).converged());
+  Eigen::VectorXd predicted = x;
+  solver.PredictSolution(base + step, &predicted);
+  return (predicted - SolveOrFail(problem, base + step)).norm();
+}
+
+TEST(EquilibriumSolver, PredictionIsSecondOrderAlongTheTangent) {
+  // Halving the step quarters a first-order prediction's error.
+  const double ratio =
+      PredictionError(0.8, false) / PredictionError(0.4, false);
+  EXPECT_GT(ratio, 3.5);
+  EXPECT_LT(ratio, 4.5);
+}
+
+TEST(EquilibriumSolver, LearnedCurvatureMakesThePredictionThirdOrder) {
+  // With the curvature of the step before, halving the step divides the
+  // error by eight, and it is far below the tangent's alone.
+  const double ratio = PredictionError(0.8, true) / PredictionError(0.4, true);
+  EXPECT_GT(ratio, 7.0);
+  EXPECT_LT(ratio, 9.0);
+  EXPECT_LT(PredictionError(0.8, true), 0.05 * PredictionError(0.8, false));
+}
+
+TEST(EquilibriumSolver, PredictionDoesNothingWithoutAConvergedSolve) {
+  const EquilibriumProblem problem(testing::DeltaMechanism(),
+                                   ForceModel::SmallAngle({}));
+  EquilibriumSolver solver(problem);
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(2, 0.25);
+  solver.PredictSolution(Psi({1, 2, 3}), &x);
+  EXPECT_EQ(x, Eigen::VectorXd::Constant(2, 0.25));
+}
+
 }  // namespace
 }  // namespace softbench

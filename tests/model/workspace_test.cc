@@ -90,10 +90,10 @@ TEST(Workspace, ThreadCountDoesNotChangeTheMap) {
                                    ForceModel::VariableMomentArm({}));
   const WorkspaceMap one = ComputeWorkspace(problem, PsiLevels(6, 0.5, 1));
   const WorkspaceMap four = ComputeWorkspace(problem, PsiLevels(6, 0.5, 4));
+  // Runs of the sweep are fixed, whichever thread takes them: the maps agree
+  // to the last bit.
   EXPECT_EQ(one.pressures_mpa, four.pressures_mpa);
-  EXPECT_LT(
-      (one.displacements_mm - four.displacements_mm).lpNorm<Eigen::Infinity>(),
-      1e-9);
+  EXPECT_EQ(one.displacements_mm, four.displacements_mm);
 }
 
 TEST(WorkspaceOptions, CheckRejectsBadLevels) {
