@@ -32,4 +32,13 @@ cv::Mat ImageFrameSource::BgrRegion(const cv::Rect& region) const {
   return bgr_(clipped);
 }
 
+cv::Mat ImageFrameSource::BgrRegionReduced(const cv::Rect& region,
+                                           const cv::Size& size) const {
+  const cv::Rect clipped = region & cv::Rect(0, 0, bgr_.cols, bgr_.rows);
+  if (clipped.empty() || size.empty()) return {};
+  cv::Mat reduced;
+  cv::resize(bgr_(clipped), reduced, size, 0, 0, cv::INTER_AREA);
+  return reduced;
+}
+
 }  // namespace softbench

@@ -23,6 +23,10 @@ class FrameSource {
   virtual const cv::Mat& luma() const = 0;  // CV_8UC1
   // BGR (CV_8UC3) of `region` clipped to the frame; empty when outside.
   virtual cv::Mat BgrRegion(const cv::Rect& region) const = 0;
+  // BGR of `region` clipped to the frame, resampled to `size` by averaging
+  // areas (an overview for finding dots); empty when outside.
+  virtual cv::Mat BgrRegionReduced(const cv::Rect& region,
+                                   const cv::Size& size) const = 0;
   virtual double time_s() const = 0;
 };
 
@@ -33,6 +37,8 @@ class ImageFrameSource : public FrameSource {
   explicit ImageFrameSource(const cv::Mat& bgr, double time_s = 0.0);
   const cv::Mat& luma() const override { return luma_; }
   cv::Mat BgrRegion(const cv::Rect& region) const override;
+  cv::Mat BgrRegionReduced(const cv::Rect& region,
+                           const cv::Size& size) const override;
   double time_s() const override { return time_s_; }
 
  private:
@@ -49,6 +55,10 @@ class VideoFrameSource : public FrameSource {
   const cv::Mat& luma() const override { return frame_->luma; }
   cv::Mat BgrRegion(const cv::Rect& region) const override {
     return reader_->BgrRegion(region);
+  }
+  cv::Mat BgrRegionReduced(const cv::Rect& region,
+                           const cv::Size& size) const override {
+    return reader_->BgrRegionReduced(region, size);
   }
   double time_s() const override { return frame_->time_s; }
 

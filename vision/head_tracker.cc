@@ -19,7 +19,7 @@ std::optional<std::string> HeadTrackerOptions::Check() const {
     return "search_radius_factor must be >= 1.2 (the region must hold a dot)";
   }
   if (!(layout_tolerance_mm > 0.0)) return "layout_tolerance_mm must be > 0";
-  return std::nullopt;
+  return search.Check();
 }
 
 namespace {
@@ -80,11 +80,10 @@ bool HeadTracker::Relocate(const FrameSource& frame, int head,
   const cv::Rect region = BoxAround(
       last_pixels_[head], options_.relocate_radius_factor * radius_px_[head],
       frame.luma().size());
-  const cv::Mat bgr = frame.BgrRegion(region);
-  if (bgr.empty()) return false;
+  if (region.empty()) return false;
   HeadObservation found = *out;
   // Rejections are counted by full-image searches only.
-  if (!Detect(frame, bgr, region.tl(), head, &found) ||
+  if (!Detect(frame, region, head, &found) ||
       found.dots_found < heads_[head].dots) {
     return false;
   }
@@ -96,7 +95,6 @@ bool HeadTracker::Relocate(const FrameSource& frame, int head,
 std::vector<HeadObservation> HeadTracker::Measure(const FrameSource& frame) {
   std::vector<HeadObservation> result(heads_.size());
   claimed_.clear();
-  cv::Mat full_bgr;  // converted only when some head needs the full image
   for (size_t h = 0; h < heads_.size(); ++h) {
     HeadObservation& obs = result[h];
     obs.dots.assign(heads_[h].dots, DotObservation{});
@@ -110,14 +108,11 @@ std::vector<HeadObservation> HeadTracker::Measure(const FrameSource& frame) {
       found = obs.dots_found == heads_[h].dots;
     }
     if (!found) {
-      if (full_bgr.empty()) {
-        full_bgr = frame.BgrRegion(
-            cv::Rect(0, 0, frame.luma().cols, frame.luma().rows));
-      }
       HeadObservation detected = obs;
       detected.dots.assign(heads_[h].dots, DotObservation{});
       detected.dots_found = 0;
-      if (Detect(frame, full_bgr, {0, 0}, static_cast<int>(h), &detected)) {
+      if (Detect(frame, cv::Rect(cv::Point(0, 0), frame.luma().size()),
+                 static_cast<int>(h), &detected)) {
         obs = detected;
       } else if (obs.dots_found == 0) {
         obs.note = detected.note;
@@ -198,14 +193,13 @@ bool HeadTracker::Refine(const FrameSource& frame, int head, int dot,
   return true;
 }
 
-bool HeadTracker::Detect(const FrameSource& frame, const cv::Mat& bgr,
-                         const cv::Point& offset, int head,
-                         HeadObservation* out) {
+bool HeadTracker::Detect(const FrameSource& frame, const cv::Rect& region,
+                         int head, HeadObservation* out) {
   const HeadMarkers& markers = heads_[head];
   SegmentationOptions segmentation = options_.segmentation;
   segmentation.dot_radius_px = radius_px_[head];
   const BlobSummary blobs =
-      SegmentDots(bgr, markers.color, segmentation, offset);
+      SearchDots(frame, region, markers.color, segmentation, options_.search);
   // Candidates: accepted blobs not taken by an earlier head this frame,
   // the roundest first, at most 12 (the search below is combinatorial).
   std::vector<Blob> candidates;

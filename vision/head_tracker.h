@@ -8,6 +8,7 @@
 
 #include "vision/color_segmentation.h"
 #include "vision/dot_centre.h"
+#include "vision/dot_search.h"
 #include "vision/frame_source.h"
 #include "vision/plane_mapping.h"
 
@@ -27,6 +28,8 @@ struct HeadMarkers {
 struct HeadTrackerOptions {
   // Segmentation filters; dot_radius_px is set per head from the mapping.
   SegmentationOptions segmentation;
+  // How the full image (or a region after a seek) is searched for dots.
+  DotSearchOptions search;
   DotCentreOptions centre;
   // Half side of the region searched around a dot's last position, in dot
   // radii: covers half a radius of motion between frames (5 px at 1080p for
@@ -100,10 +103,10 @@ class HeadTracker {
  private:
   // Follows each dot of `head` in a region around its last position.
   void TrackRegions(const FrameSource& frame, int head, HeadObservation* out);
-  // Detection of one head in `bgr`, the part of the frame at `offset`;
-  // false with `note` set when no set of blobs fits the layout.
-  bool Detect(const FrameSource& frame, const cv::Mat& bgr,
-              const cv::Point& offset, int head, HeadObservation* out);
+  // Detection of one head in `region` of the frame; false with `note` set
+  // when no set of blobs fits the layout.
+  bool Detect(const FrameSource& frame, const cv::Rect& region, int head,
+              HeadObservation* out);
   // Detection near the head's last dots (after ForgetPositions).
   bool Relocate(const FrameSource& frame, int head, HeadObservation* out);
   // Refines a dot found as `blob_centroid` from the luma, starting at

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -29,7 +30,8 @@ struct VideoReader::State {
   AVPacket* packet = nullptr;
   AVFrame* frame = nullptr;
   SwsContext* sws = nullptr;
-  SwsContext* region_sws = nullptr;  // cached for the last region size
+  SwsContext* region_sws = nullptr;   // cached for the last region size
+  SwsContext* reduced_sws = nullptr;  // the same for reduced regions
   int stream = -1;
   AVRational time_base{1, 1};
   int64_t start_pts = 0;
@@ -46,6 +48,7 @@ struct VideoReader::State {
   ~State() {
     sws_freeContext(sws);
     sws_freeContext(region_sws);
+    sws_freeContext(reduced_sws);
     av_frame_free(&frame);
     av_packet_free(&packet);
     avcodec_free_context(&codec);
@@ -148,19 +151,25 @@ struct VideoReader::State {
   }
 
   // Converts a w x h picture (planes `data`) to BGR with `*context`.
+  // Converts a w x h source to BGR of dst_size (the source's own size when
+  // empty), averaging over areas when it reduces.
   cv::Mat ConvertBgr(SwsContext** context, const uint8_t* const* data,
-                     const int* linesize, int w, int h) {
+                     const int* linesize, int w, int h,
+                     cv::Size dst_size = {}) {
+    if (dst_size.empty()) dst_size = {w, h};
+    const bool reduce = dst_size != cv::Size(w, h);
     *context = sws_getCachedContext(
-        *context, w, h, static_cast<AVPixelFormat>(frame->format), w, h,
-        AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr, nullptr);
+        *context, w, h, static_cast<AVPixelFormat>(frame->format),
+        dst_size.width, dst_size.height, AV_PIX_FMT_BGR24,
+        reduce ? SWS_AREA : SWS_BILINEAR, nullptr, nullptr, nullptr);
     SetColorspace(*context, frame->colorspace, frame->color_range);
     // swscale's vector code writes whole 16-pixel blocks: rows padded to
     // them (and aligned), then cut to the width.
-    cv::Mat padded(h, (w + 15) / 16 * 16, CV_8UC3);
+    cv::Mat padded(dst_size.height, (dst_size.width + 15) / 16 * 16, CV_8UC3);
     uint8_t* dst[] = {padded.data};
     const int dst_stride[] = {static_cast<int>(padded.step)};
     sws_scale(*context, data, linesize, 0, h, dst, dst_stride);
-    return padded.colRange(0, w);  // owned: converted, not a view
+    return padded.colRange(0, dst_size.width);  // owned: not a view
   }
 
   // Applies the rotation metadata (clockwise degrees) like ffmpeg's autorotate.
@@ -315,17 +324,64 @@ VideoFrame VideoReader::SeekTo(double time_s) {
   return frame;
 }
 
+namespace {
+
+// The planar formats whose regions convert by pointing at their planes.
+const AVPixFmtDescriptor* PlanarYuv(const AVFrame& frame) {
+  const AVPixFmtDescriptor* desc =
+      av_pix_fmt_desc_get(static_cast<AVPixelFormat>(frame.format));
+  const bool planar =
+      desc != nullptr && (desc->flags & AV_PIX_FMT_FLAG_PLANAR) != 0 &&
+      (desc->flags & (AV_PIX_FMT_FLAG_HWACCEL | AV_PIX_FMT_FLAG_RGB)) == 0;
+  return planar ? desc : nullptr;
+}
+
+// The smallest rectangle of whole chroma samples holding `r`.
+cv::Rect ChromaAligned(const cv::Rect& r, const AVPixFmtDescriptor& desc,
+                       const cv::Size& frame_size) {
+  const int align_x = 1 << desc.log2_chroma_w,
+            align_y = 1 << desc.log2_chroma_h;
+  const int x0 = r.x / align_x * align_x, y0 = r.y / align_y * align_y;
+  const int x1 = std::min(frame_size.width,
+                          (r.br().x + align_x - 1) / align_x * align_x),
+            y1 = std::min(frame_size.height,
+                          (r.br().y + align_y - 1) / align_y * align_y);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+}  // namespace
+
+cv::Mat VideoReader::ConvertRegion(const cv::Rect& aligned,
+                                   const cv::Size& dst_size) {
+  State& s = *state_;
+  const AVPixFmtDescriptor& desc = *PlanarYuv(*s.frame);
+  // Point each plane at the region's corner.
+  const uint8_t* data[4] = {};
+  for (int c = 0; c < desc.nb_components; ++c) {
+    const AVComponentDescriptor& comp = desc.comp[c];
+    const bool chroma = c == 1 || c == 2;
+    const int px = chroma ? aligned.x >> desc.log2_chroma_w : aligned.x;
+    const int py = chroma ? aligned.y >> desc.log2_chroma_h : aligned.y;
+    data[comp.plane] =
+        s.frame->data[comp.plane] +
+        static_cast<ptrdiff_t>(py) * s.frame->linesize[comp.plane] +
+        static_cast<ptrdiff_t>(px) * comp.step;
+  }
+  return s.ConvertBgr(dst_size.empty() ? &s.region_sws : &s.reduced_sws, data,
+                      s.frame->linesize, aligned.width, aligned.height,
+                      dst_size);
+}
+
+bool VideoReader::RegionsConvertInPlace() const {
+  return state_->info.rotation_deg == 0 && PlanarYuv(*state_->frame);
+}
+
 cv::Mat VideoReader::BgrRegion(const cv::Rect& region) {
   State& s = *state_;
   const cv::Rect clipped =
       region & cv::Rect(0, 0, s.info.width_px, s.info.height_px);
   if (clipped.empty() || s.last_good_index < 0) return {};
-  const AVPixFmtDescriptor* desc =
-      av_pix_fmt_desc_get(static_cast<AVPixelFormat>(s.frame->format));
-  const bool planar =
-      desc != nullptr && (desc->flags & AV_PIX_FMT_FLAG_PLANAR) != 0 &&
-      (desc->flags & (AV_PIX_FMT_FLAG_HWACCEL | AV_PIX_FMT_FLAG_RGB)) == 0;
-  if (s.info.rotation_deg != 0 || !planar) {
+  if (!RegionsConvertInPlace()) {
     // Rare path (phone portrait video, packed formats): convert it all.
     cv::Mat full;
     s.Rotate(s.ConvertBgr(&s.sws, s.frame->data, s.frame->linesize,
@@ -333,32 +389,27 @@ cv::Mat VideoReader::BgrRegion(const cv::Rect& region) {
              &full);
     return full(clipped).clone();
   }
-  // Grow the region to whole chroma samples, point each plane at its
-  // corner, convert, and cut the request out of it.
-  const int align_x = 1 << desc->log2_chroma_w,
-            align_y = 1 << desc->log2_chroma_h;
-  const int x0 = clipped.x / align_x * align_x,
-            y0 = clipped.y / align_y * align_y;
-  const int x1 = std::min(s.frame->width,
-                          (clipped.br().x + align_x - 1) / align_x * align_x),
-            y1 = std::min(s.frame->height,
-                          (clipped.br().y + align_y - 1) / align_y * align_y);
-  const uint8_t* data[4] = {};
-  for (int c = 0; c < desc->nb_components; ++c) {
-    const AVComponentDescriptor& comp = desc->comp[c];
-    const bool chroma = c == 1 || c == 2;
-    const int px = chroma ? x0 >> desc->log2_chroma_w : x0;
-    const int py = chroma ? y0 >> desc->log2_chroma_h : y0;
-    data[comp.plane] =
-        s.frame->data[comp.plane] +
-        static_cast<ptrdiff_t>(py) * s.frame->linesize[comp.plane] +
-        static_cast<ptrdiff_t>(px) * comp.step;
+  // Grow the region to whole chroma samples, convert, and cut the request
+  // out of it.
+  const cv::Rect aligned = ChromaAligned(clipped, *PlanarYuv(*s.frame),
+                                         {s.frame->width, s.frame->height});
+  return ConvertRegion(aligned, {})(clipped - aligned.tl()).clone();
+}
+
+cv::Mat VideoReader::BgrRegionReduced(const cv::Rect& region,
+                                      const cv::Size& size) {
+  State& s = *state_;
+  const cv::Rect clipped =
+      region & cv::Rect(0, 0, s.info.width_px, s.info.height_px);
+  if (clipped.empty() || size.empty() || s.last_good_index < 0) return {};
+  if (RegionsConvertInPlace() &&
+      ChromaAligned(clipped, *PlanarYuv(*s.frame),
+                    {s.frame->width, s.frame->height}) == clipped) {
+    return ConvertRegion(clipped, size);  // straight from the planes
   }
-  const cv::Mat bgr =
-      s.ConvertBgr(&s.region_sws, data, s.frame->linesize, x1 - x0, y1 - y0);
-  return bgr(cv::Rect(clipped.x - x0, clipped.y - y0, clipped.width,
-                      clipped.height))
-      .clone();
+  cv::Mat reduced;
+  cv::resize(BgrRegion(clipped), reduced, size, 0, 0, cv::INTER_AREA);
+  return reduced;
 }
 
 }  // namespace softbench

@@ -76,8 +76,19 @@ class VideoReader {
   // planar YUV video, so tracking a few dots does not pay for a full-frame
   // conversion; an empty Mat when the region misses the frame.
   cv::Mat BgrRegion(const cv::Rect& region);
+  // The colour of `region` (clipped to the frame) resampled to `size` by
+  // averaging areas: an overview for finding dots at a fraction of the
+  // pixels. Converted straight from the planes when the region is made of
+  // whole chroma samples (even corners for 4:2:0); an empty Mat when the
+  // region misses the frame.
+  cv::Mat BgrRegionReduced(const cv::Rect& region, const cv::Size& size);
 
  private:
+  // Whether regions convert from the planes in place (unrotated planar YUV).
+  bool RegionsConvertInPlace() const;
+  // BGR of a region of whole chroma samples, at its size or `dst_size`.
+  cv::Mat ConvertRegion(const cv::Rect& aligned, const cv::Size& dst_size);
+
   struct State;
   std::unique_ptr<State> state_;
 };

@@ -155,6 +155,44 @@ int RegionMismatch(VideoReader* reader, const VideoFrame& frame,
   return static_cast<int>(largest);
 }
 
+// Mean and largest per-channel difference between a region reduced by the
+// reader and OpenCV's area resampling of the same pixels of the full frame.
+std::pair<double, int> ReducedMismatch(VideoReader* reader,
+                                       const VideoFrame& frame,
+                                       const cv::Rect& region,
+                                       const cv::Size& size) {
+  const cv::Mat reduced = reader->BgrRegionReduced(region, size);
+  EXPECT_EQ(reduced.size(), size);
+  cv::Mat expected, difference;
+  cv::resize(frame.bgr(region), expected, size, 0, 0, cv::INTER_AREA);
+  cv::absdiff(reduced, expected, difference);
+  double largest = 0.0;
+  cv::minMaxLoc(difference.reshape(1), nullptr, &largest);
+  return {cv::mean(difference.reshape(1))[0], static_cast<int>(largest)};
+}
+
+TEST(VideoIo, ReducedRegionAveragesTheColour) {
+  const std::string path = WriteVideo("softbench_io_reduced.mp4", 3);
+  VideoReader reader(path);
+  VideoFrame frame;
+  ASSERT_TRUE(reader.Read(&frame));
+  // Even corners convert straight from the planes, averaging the 4:2:0
+  // chroma as it comes (close to averaging the upsampled colour: a level or
+  // so on average, more at sharp colour edges).
+  for (const auto& [region, size] :
+       {std::pair{cv::Rect(0, 0, 320, 240), cv::Size(80, 60)},
+        std::pair{cv::Rect(32, 40, 120, 90), cv::Size(40, 30)}}) {
+    EXPECT_LT(ReducedMismatch(&reader, frame, region, size).first, 2.0)
+        << region;
+  }
+  // Odd ones go through the full-resolution region: exactly OpenCV's.
+  const auto [mean, largest] = ReducedMismatch(
+      &reader, frame, cv::Rect(33, 41, 67, 67), cv::Size(23, 23));
+  EXPECT_EQ(largest, 0);
+  EXPECT_TRUE(
+      reader.BgrRegionReduced(cv::Rect(400, 400, 10, 10), {2, 2}).empty());
+}
+
 TEST(VideoIo, RegionColourMatchesTheFullFrame) {
   const std::string path = WriteVideo("softbench_io_region.mp4", 3);
   VideoReader reader(path);
