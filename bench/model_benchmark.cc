@@ -33,14 +33,18 @@ void BM_DeltaSolve(benchmark::State& state) {
 }
 BENCHMARK(BM_DeltaSolve);
 
-void BM_Map(benchmark::State& state, const char* mechanism, double step_psi) {
+// `reuse`: each map goes into the previous one's storage, as a caller sweeping
+// many maps does; otherwise into fresh storage (first touch of its memory).
+void BM_Map(benchmark::State& state, const char* mechanism, double step_psi,
+            bool reuse) {
   const EquilibriumProblem problem(LoadMechanism(mechanism),
                                    ForceModel::SmallAngle({}));
   const WorkspaceOptions options =
       PsiLevels(6.0, step_psi, static_cast<int>(state.range(0)));
   long long points = 0, iterations = 0;
-  WorkspaceMap map;  // storage reused from one map to the next
+  WorkspaceMap map;
   for (auto _ : state) {
+    if (!reuse) map = WorkspaceMap();
     ComputeWorkspace(problem, options, &map);
     if (map.num_not_converged != 0) state.SkipWithError("not converged");
     points = map.pressures_mpa.rows();
@@ -57,13 +61,17 @@ void BM_Map(benchmark::State& state, const char* mechanism, double step_psi) {
                          benchmark::Counter::kIsIterationInvariantRate);
 }
 // Argument: worker threads (0 = all cores).
-BENCHMARK_CAPTURE(BM_Map, Delta343, "delta", 1.0)
+BENCHMARK_CAPTURE(BM_Map, Delta343, "delta", 1.0, true)
     ->Arg(1)
     ->Arg(0)
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
-BENCHMARK_CAPTURE(BM_Map, Floating3125, "floating", 1.5)
+BENCHMARK_CAPTURE(BM_Map, Floating3125, "floating", 1.5, true)
     ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Map, Floating3125_fresh_storage, "floating", 1.5, false)
     ->Arg(0)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -22,7 +22,7 @@ namespace {
 
 // A pixel of the step's box, relative to the current centre.
 struct BoxPixel {
-  double dx, dy, d, luma;
+  double dx, dy, d2, luma;
 };
 
 // One weighted-centroid step around `c`; false (with a reason) when the
@@ -42,18 +42,24 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
   }
   // The pixels within `outer` of the centre, gathered once: the ring
   // outside the window (background) and the window itself (the dot).
-  std::vector<BoxPixel> ring, inside;
-  ring.reserve(static_cast<size_t>(8.0 * outer * options.background_width_px));
-  inside.reserve(static_cast<size_t>(4.0 * (window + 1) * (window + 1)));
+  // Distances are compared squared; the square root is taken only on the
+  // window's soft edge, where the weight needs it. The buffers live as long
+  // as the thread, so a step allocates nothing.
+  thread_local std::vector<BoxPixel> ring, inside;
+  ring.clear();
+  inside.clear();
+  const double outer_sq = outer * outer, window_sq = window * window;
+  const double inside_sq = (window + 0.5) * (window + 0.5);
   for (int y = y0; y <= y1; ++y) {
     const uint8_t* row = luma.ptr<uint8_t>(y);
+    const double dy = y - c.y();
     for (int x = x0; x <= x1; ++x) {
-      const double dx = x - c.x(), dy = y - c.y();
+      const double dx = x - c.x();
       const double d2 = dx * dx + dy * dy;
-      if (d2 > outer * outer) continue;
-      const BoxPixel p{dx, dy, std::sqrt(d2), 1.0 * row[x]};
-      if (p.d >= window) ring.push_back(p);
-      if (p.d < window + 0.5) inside.push_back(p);
+      if (d2 > outer_sq) continue;
+      const BoxPixel p{dx, dy, d2, 1.0 * row[x]};
+      if (d2 >= window_sq) ring.push_back(p);
+      if (d2 < inside_sq) inside.push_back(p);
     }
   }
   // Background plane L = a + b dx + c dy on the ring [window, outer], with
@@ -61,28 +67,36 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
   Eigen::Vector3d plane = Eigen::Vector3d::Zero();
   double noise = 0.0;
   for (int pass = 0; pass < 2; ++pass) {
-    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    double sum_sq = 0.0;
-    int count = 0;
+    // Sums of the normal equations in the basis (1, dx, dy).
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    double sl = 0, sxl = 0, syl = 0, sum_sq = 0;
     for (const BoxPixel& p : ring) {
-      const Eigen::Vector3d basis(1.0, p.dx, p.dy);
       if (pass == 1 &&
-          std::abs(p.luma - plane.dot(basis)) > 3.0 * noise + 1.0) {
+          std::abs(p.luma - (plane[0] + plane[1] * p.dx + plane[2] * p.dy)) >
+              3.0 * noise + 1.0) {
         continue;
       }
-      normal += basis * basis.transpose();
-      rhs += basis * p.luma;
+      n += 1;
+      sx += p.dx;
+      sy += p.dy;
+      sxx += p.dx * p.dx;
+      sxy += p.dx * p.dy;
+      syy += p.dy * p.dy;
+      sl += p.luma;
+      sxl += p.dx * p.luma;
+      syl += p.dy * p.luma;
       sum_sq += p.luma * p.luma;
-      ++count;
     }
-    if (count < 12) {
+    if (n < 12) {
       out->why_not = "too few background pixels around the dot";
       return false;
     }
+    Eigen::Matrix3d normal;
+    normal << n, sx, sy, sx, sxx, sxy, sy, sxy, syy;
+    const Eigen::Vector3d rhs(sl, sxl, syl);
     plane = normal.ldlt().solve(rhs);
     // RMS residual of the least-squares fit: sum(L^2) - plane . rhs.
-    noise = std::sqrt(std::max(0.0, (sum_sq - plane.dot(rhs)) / (count - 3)));
+    noise = std::sqrt(std::max(0.0, (sum_sq - plane.dot(rhs)) / (n - 3)));
   }
   // Lighting multiplies the dot and the head alike, so the dot's level is a
   // fixed fraction `ratio` of the local background.
@@ -90,10 +104,11 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
     return plane[0] + plane[1] * p.dx + plane[2] * p.dy;
   };
   const double inner_fg = std::max(0.5 * radius_px, radius_px - 1.5);
+  const double inner_fg_sq = inner_fg * inner_fg;
   double ratio_sum = 0.0;
   int fg_count = 0;
   for (const BoxPixel& p : inside) {
-    if (p.d <= inner_fg) {
+    if (p.d2 <= inner_fg_sq) {
       ratio_sum += p.luma / background(p);
       ++fg_count;
     }
@@ -114,9 +129,12 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
   }
   // Coverage-weighted centroid inside the soft window; the coverage of a
   // pixel is (1 - luma / background) / (1 - ratio).
+  const double full_sq = (window - 0.5) * (window - 0.5);
   double sw = 0.0, swx = 0.0, swy = 0.0, s2xx = 0.0, s2yy = 0.0;
   for (const BoxPixel& p : inside) {
-    const double s = std::clamp(window + 0.5 - p.d, 0.0, 1.0);
+    const double s = p.d2 <= full_sq
+                         ? 1.0
+                         : std::clamp(window + 0.5 - std::sqrt(p.d2), 0.0, 1.0);
     if (s == 0.0) continue;
     const double w = s * (1.0 - p.luma / background(p)) / (1.0 - ratio);
     sw += w;
