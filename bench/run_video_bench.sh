@@ -35,8 +35,11 @@ for codec in h264 hevc; do
   done
 done
 
-echo "== softbench (Google Benchmark, median of $repetitions) =="
+# Repetitions run in random order, so a change in the shared host's load
+# hits decode-only and tracking alike.
+echo "== softbench (Google Benchmark, median of $repetitions, interleaved) =="
 ./build/release/bench/video_benchmark --benchmark_repetitions="$repetitions" \
+  --benchmark_enable_random_interleaving=true \
   --benchmark_report_aggregates_only=true -- "${files[@]}" 2>/dev/null | grep -E 'median|^Run'
 
 echo "== peer: ffmpeg -f null (decode only, default threads), median of $repetitions =="

@@ -150,9 +150,9 @@ struct VideoReader::State {
     }
   }
 
-  // Converts a w x h picture (planes `data`) to BGR with `*context`.
-  // Converts a w x h source to BGR of dst_size (the source's own size when
-  // empty), averaging over areas when it reduces.
+  // Converts a w x h picture (planes `data`) with `*context` to BGR of
+  // dst_size (the picture's own size when empty), averaging areas when it
+  // reduces.
   cv::Mat ConvertBgr(SwsContext** context, const uint8_t* const* data,
                      const int* linesize, int w, int h,
                      cv::Size dst_size = {}) {
