@@ -280,9 +280,9 @@ void EquilibriumSolver::PredictSolution(const Eigen::VectorXd& pressures_mpa,
   }
   if (axis < 0) return;
   predicted_axis_ = axis;
-  predicted_step_mpa_ = step_pressures_[axis];
   if (has_curvature_[axis]) {
-    *x += curvature_.col(axis) * (predicted_step_mpa_ * predicted_step_mpa_);
+    *x +=
+        curvature_.col(axis) * (step_pressures_[axis] * step_pressures_[axis]);
   }
 }
 
@@ -305,9 +305,9 @@ EquilibriumSummary EquilibriumSolver::Solve(
       // What the first-order prediction missed is (1/2) x'' dP^2 to third
       // order: remember it for the next step of the same actuator.
       if (predicted_axis >= 0) {
+        const double step_mpa = step_pressures_[predicted_axis];
         curvature_.col(predicted_axis) =
-            (*x - linear_prediction_) /
-            (predicted_step_mpa_ * predicted_step_mpa_);
+            (*x - linear_prediction_) / (step_mpa * step_mpa);
         has_curvature_[predicted_axis] = true;
       }
       last_solution_ = *x;

@@ -143,14 +143,13 @@ class EquilibriumSolver {
   // actuator a [mm/MPa^2], valid where has_curvature_[a].
   Eigen::MatrixXd curvature_;
   std::vector<bool> has_curvature_;
-  // The last prediction's first-order part, the actuator it stepped (-1 when
-  // several or none changed) and its step [MPa]: Solve() learns the
-  // curvature from them.
-  Eigen::VectorXd linear_prediction_;
+  // The last prediction's first-order part, its pressure step [MPa] and the
+  // actuator it stepped (-1 when several or none changed): Solve() learns
+  // the curvature from them.
+  Eigen::VectorXd linear_prediction_, step_pressures_;
   int predicted_axis_ = -1;
-  double predicted_step_mpa_ = 0.0;
   // PredictSolution's workspace.
-  Eigen::VectorXd step_pressures_, tangent_rhs_;
+  Eigen::VectorXd tangent_rhs_;
   bool has_solution_ = false;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   double damping_ = 1e-6;

@@ -294,7 +294,7 @@ json ForcePressureChart(const FitRun& run, const std::vector<BinRow>& bins,
       {"scale", {{"zero", false}}}};
   const json color = {{"field", "series"}, {"type", "nominal"}};
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title", std::string(direction == 0 ? "Axial" : "Shear") +
                     " force against pressure, per configuration"},
       {"data", {{"values", values}}},
@@ -365,7 +365,7 @@ json StaticOffsetChart(const FitRun& run, const ForceFitSummary& fit,
     }
   }
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title", "Static offsets at zero pressure: measured and the " +
                     fit.model_name + " model's grid (fig. 3.18)"},
       {"width", 520},
@@ -452,7 +452,7 @@ json StaticOffsetProjectionChart(const FitRun& run, const ForceFitSummary& fit,
   const json color = {
       {"field", "group"}, {"type", "nominal"}, {"title", nullptr}};
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title", "Static offsets against dL and theta: measured (points) and " +
                     fit.model_name + " model (lines) (figs. 3.15, 3.16)"},
       {"data", {{"values", values}}},
@@ -509,7 +509,7 @@ json EffectiveAreaChart(const FitRun& run, const ForceFitSummary& fit) {
                   {"type", "quantitative"},
                   {"title", "effective area [mm^2]"}};
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title",
        "Effective areas against theta, " + fit.model_name + " fit (fig. 3.17)"},
       {"data", {{"values", values}}},
@@ -576,7 +576,7 @@ json ResidualChart(const FitRun& run, const std::vector<BinRow>& bins) {
       }
     }
   }
-  return {{"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+  return {{"$schema", kVegaLiteSchema},
           {"title",
            "Residuals (measured - model) by pressure: mean per "
            "configuration and pressure bin; hover for the spread"},
@@ -627,7 +627,7 @@ json TestRmseChart(const FitRun& run) {
     }
   }
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title", "RMS residual per test"},
       {"data", {{"values", values}}},
       {"facet", {{"column", {{"field", "direction"}, {"type", "nominal"}}}}},

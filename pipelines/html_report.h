@@ -9,6 +9,11 @@
 
 namespace softbench {
 
+// The Vega-Lite version AddChart's specifications are written for (the
+// vega-lite npm package scripts/bootstrap.sh installs).
+inline constexpr char kVegaLiteSchema[] =
+    "https://vega.github.io/schema/vega-lite/v6.json";
+
 // A self-contained HTML report: headings, text, tables and Vega-Lite charts,
 // with Vega, Vega-Lite and vega-embed inlined from the npm packages that
 // scripts/bootstrap.sh installs (report/node_modules), so the page works

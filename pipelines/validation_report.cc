@@ -50,7 +50,7 @@ json PositionChart(const TestPlan& plan, const ValidationResult& r) {
   const json y = {
       {"field", "z"}, {"type", "quantitative"}, {"title", "z [mm]"}};
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title", "Measured and predicted displacements (figs. 4.8, 4.16)"},
       {"data", {{"values", values}}},
       {"facet", {{"field", "head"}, {"type", "nominal"}}},
@@ -92,7 +92,7 @@ json ErrorChart(const TestPlan& plan, const ValidationResult& r) {
     }
   }
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title", "Position error per test point (figs. 4.9, 4.17)"},
       {"data", {{"values", values}}},
       {"facet", {{"field", "head"}, {"type", "nominal"}}},
@@ -145,7 +145,7 @@ json TrajectoryChart(const TestPlan& plan, const VideoMeasurement& m,
     }
   }
   return {
-      {"$schema", "https://vega.github.io/schema/vega-lite/v6.json"},
+      {"$schema", kVegaLiteSchema},
       {"title", "Head displacements over time; windows shaded"},
       {"width", 1000},
       {"height", 260},

@@ -206,7 +206,9 @@ double PredictionError(double h_psi, bool learn) {
   Eigen::VectorXd step = Eigen::VectorXd::Zero(5);
   step[1] = h_psi * kMpaPerPsi;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(4);
-  if (learn) EXPECT_TRUE(solver.Solve(base - step, &x).converged());
+  if (learn) {
+    EXPECT_TRUE(solver.Solve(base - step, &x).converged());
+  }
   solver.PredictSolution(base, &x);
   EXPECT_TRUE(solver.Solve(base, &x).converged());
   Eigen::VectorXd predicted = x;
