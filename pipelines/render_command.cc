@@ -72,6 +72,8 @@ void AddRenderCommand(CLI::App* app, RenderCommandOptions* options) {
   c->add_option("--crf", options->crf,
                 "encoder quality (lower: better, larger)")
       ->capture_default_str();
+  c->add_option("--bitrate-mbps", options->bitrate_mbps,
+                "average bitrate [Mb/s] instead of the CRF (a phone: ~10)");
   c->add_option("--preset", options->preset, "encoder preset")
       ->capture_default_str();
   c->add_option("--keyframe-interval-s", options->keyframe_interval_s,
@@ -110,6 +112,31 @@ void AddRenderCommand(CLI::App* app, RenderCommandOptions* options) {
               "add a red air tube distractor");
   c->add_flag("--glint", options->render.glint,
               "add a specular glint on each head");
+  // A phone on a tripod (docs/rendering.md, "Real footage").
+  c->add_option("--camera-drift-px", options->camera_drift_px,
+                "camera drift dx,dy [px] reached linearly by the video's end, "
+                "e.g. 0.4,0.3");
+  c->add_option("--camera-tremor-px", options->conditions.tremor_px,
+                "RMS camera tremble [px] (2-12 Hz)")
+      ->capture_default_str();
+  c->add_option("--camera-bump", options->camera_bumps,
+                "a knock on the tripod: T:DX,DY[,ROLL_DEG] (s, px, deg); "
+                "repeat for more");
+  c->add_option("--exposure-drift", options->conditions.exposure_drift,
+                "relative amplitude of auto-exposure's wander (0.3: +-30 %)")
+      ->capture_default_str();
+  c->add_option("--white-balance-drift-k",
+                options->conditions.white_balance_drift_k,
+                "amplitude of white balance's wander [K]")
+      ->capture_default_str();
+  c->add_option("--tag-gone-after-s", options->conditions.tag_gone_after_s,
+                "take the tag away from this time on (a hand or a cable "
+                "over it)");
+  c->add_flag("--no-ring", options->no_ring,
+              "a plain table around the mechanism: no ring or pads");
+  c->add_option("--drift-period-s", options->conditions.drift_period_s,
+                "period of the exposure wander [s] (white balance: 1.37x)")
+      ->capture_default_str();
 }
 
 int RunRender(RenderCommandOptions options, std::ostream& out) {
@@ -145,10 +172,25 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
     std::copy(d.begin(), d.end(), render.intrinsics.distortion.begin());
   }
   render.motion_blur = !options.no_motion_blur;
+  render.ring = !options.no_ring;
+  BenchConditionsOptions& conditions = options.conditions;
+  if (!options.camera_drift_px.empty()) {
+    const std::vector<double> d =
+        ParseNumberList(options.camera_drift_px, "--camera-drift-px");
+    if (d.size() != 2) throw InputError("--camera-drift-px: give dx,dy");
+    conditions.drift_px = {d[0], d[1]};
+  }
+  for (const std::string& bump : options.camera_bumps) {
+    conditions.bumps.push_back(ParseCameraBump(bump));
+  }
+  conditions.seed = render.seed;
+  if (auto problem = conditions.Check())
+    throw InputError("render: " + *problem);
   if (auto problem = render.Check()) throw InputError("render: " + *problem);
   VideoWriterOptions writer_options;
   writer_options.codec = options.codec;
   writer_options.crf = options.crf;
+  writer_options.bitrate_mbps = options.bitrate_mbps;
   writer_options.preset = options.preset;
   writer_options.fps = options.fps;
   writer_options.keyframe_interval_s = options.keyframe_interval_s;
@@ -161,6 +203,8 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   const SceneRenderer renderer(plan, render);
   const int64_t frames =
       static_cast<int64_t>(std::ceil(timeline.duration_s() * options.fps));
+  const BenchConditions bench(conditions, render.intrinsics,
+                              timeline.duration_s());
 
   // The video goes to a temporary file renamed at the end: a failure leaves
   // no half-written video.
@@ -171,7 +215,9 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   for (int h = 1; h <= plan.mechanism.NumHeads(); ++h) {
     truth += fmt::format(",y{0}_mm,z{0}_mm,u{0}_px,v{0}_px", h);
   }
-  truth += "\n";
+  // The camera's motion since the start: the shift of the content at the
+  // principal point and the roll (clockwise on screen); the brightness.
+  truth += ",camera_dx_px,camera_dy_px,camera_roll_rad,brightness\n";
   try {
     VideoWriter writer(temporary.string(), size.width, size.height,
                        writer_options);
@@ -179,6 +225,7 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
     std::future<void> encoding;
     for (int64_t k = 0; k < frames; ++k) {
       const double t = k / options.fps;
+      const FrameConditions frame_conditions = bench.At(t);
       const std::vector<Eigen::VectorXd> samples =
           ExposureSamples(timeline, t, render.exposure_s, render.motion_blur);
       Eigen::VectorXd mean = Eigen::VectorXd::Zero(samples[0].size());
@@ -187,7 +234,8 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
       std::vector<Eigen::Vector2d> pixels(plan.mechanism.NumHeads(),
                                           Eigen::Vector2d::Zero());
       for (const Eigen::VectorXd& s : samples) {
-        const std::vector<Eigen::Vector2d> p = renderer.HeadPixels(s);
+        const std::vector<Eigen::Vector2d> p =
+            renderer.HeadPixels(s, frame_conditions.motion);
         for (size_t h = 0; h < p.size(); ++h)
           pixels[h] += p[h] / samples.size();
       }
@@ -196,8 +244,12 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
         truth += fmt::format(",{:.7f},{:.7f},{:.5f},{:.5f}", mean[2 * h],
                              mean[2 * h + 1], pixels[h].x(), pixels[h].y());
       }
-      truth += "\n";
-      cv::Mat frame = renderer.Render(samples, k);
+      const Eigen::Vector2d shift =
+          frame_conditions.motion.ShiftPx(render.intrinsics);
+      truth += fmt::format(",{:.5f},{:.5f},{:.8f},{:.5f}\n", shift.x(),
+                           shift.y(), frame_conditions.motion.roll_rad(),
+                           frame_conditions.brightness);
+      cv::Mat frame = renderer.Render(samples, k, frame_conditions);
       if (encoding.valid())
         encoding.get();  // one frame encodes while the next renders
       encoding =

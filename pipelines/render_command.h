@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 #include <ostream>
 #include <string>
+#include <vector>
 
+#include "pipelines/bench_conditions.h"
 #include "pipelines/scene_renderer.h"
 
 namespace softbench {
@@ -19,6 +21,7 @@ struct RenderCommandOptions {
   std::string resolution = "1080p";  // 720p, 1080p, 4k or WxH
   std::string codec = "h264";
   int crf = 20;
+  double bitrate_mbps = 0.0;  // > 0: instead of the CRF
   double keyframe_interval_s = 2.0;
   std::string preset = "medium";
   double fps = 30.0;
@@ -28,6 +31,11 @@ struct RenderCommandOptions {
   std::string tilt_deg;         // "x,y"
   std::string distortion;       // "k1,k2,p1,p2,k3"
   bool no_motion_blur = false;
+  bool no_ring = false;
+  // Camera motion and exposure drift (bench_conditions.h).
+  std::string camera_drift_px;            // "dx,dy" over the whole video
+  std::vector<std::string> camera_bumps;  // "t:dx,dy[,roll_deg]" each
+  BenchConditionsOptions conditions;
   bool quiet = false;
   RenderOptions render;  // distance, noise, distractors, seed
 };

@@ -237,23 +237,25 @@ void SceneRenderer::DrawStatic() {
 
   // Ring with a pad from each fixed anchor out to it (the mating surfaces).
   const Mechanism& m = plan_.mechanism;
-  Composite(
-      px, on_ring, box(centre_mm_, ring_outer_mm_ + 1, 0.0),
-      options_.supersampling,
-      [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-        const double r = (p - centre_mm_).norm();
-        bool in = r >= ring_inner_mm_ && r <= ring_outer_mm_;
-        for (const FixedAnchor& a : m.fixed_anchors) {
-          const Eigen::Vector2d out =
-              centre_mm_ +
-              (a.position_mm - centre_mm_).normalized() * ring_inner_mm_;
-          in = in || DistanceToSegment(p, a.position_mm, out) <= 12.5;
-        }
-        *colour = kRingColor;
-        return in;
-      },
-      &background_);
+  if (options_.ring)
+    Composite(
+        px, on_ring, box(centre_mm_, ring_outer_mm_ + 1, 0.0),
+        options_.supersampling,
+        [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+          const double r = (p - centre_mm_).norm();
+          bool in = r >= ring_inner_mm_ && r <= ring_outer_mm_;
+          for (const FixedAnchor& a : m.fixed_anchors) {
+            const Eigen::Vector2d out =
+                centre_mm_ +
+                (a.position_mm - centre_mm_).normalized() * ring_inner_mm_;
+            in = in || DistanceToSegment(p, a.position_mm, out) <= 12.5;
+          }
+          *colour = kRingColor;
+          return in;
+        },
+        &background_);
 
+  background_without_tag_ = background_.clone();
   if (plan_.calibration.tag) {
     // The tag from libapriltag's own bitmap: total_width cells including the
     // white quiet zone; size_mm spans the black border (width_at_border).
@@ -300,8 +302,16 @@ void SceneRenderer::DrawStatic() {
   }
 }
 
+Eigen::Vector2d SceneRenderer::Project(const Eigen::Vector3d& point_in_world,
+                                       const CameraMotion& motion) const {
+  const Eigen::Vector3d p =
+      camera_.camera_from_world() * point_in_world + camera_.translation();
+  const Eigen::Vector3d n = motion.CurrentFromReference() * (p / p.z());
+  return camera_.Distort(n.head<2>() / n.z());
+}
+
 std::vector<DotTruth> SceneRenderer::Dots(
-    const Eigen::VectorXd& displacements_mm) const {
+    const Eigen::VectorXd& displacements_mm, const CameraMotion& motion) const {
   std::vector<DotTruth> dots;
   for (const MarkerSpec& marker : plan_.markers) {
     const Eigen::Vector2d head = plan_.mechanism.heads[marker.head].rest_mm +
@@ -310,14 +320,14 @@ std::vector<DotTruth> SceneRenderer::Dots(
       const Eigen::Vector2d p = head + offset;
       dots.push_back(
           {marker.head, p,
-           camera_.Project(Eigen::Vector3d(p.x(), p.y(), dot_height_))});
+           Project(Eigen::Vector3d(p.x(), p.y(), dot_height_), motion)});
     }
   }
   return dots;
 }
 
 std::vector<Eigen::Vector2d> SceneRenderer::HeadPixels(
-    const Eigen::VectorXd& displacements_mm) const {
+    const Eigen::VectorXd& displacements_mm, const CameraMotion& motion) const {
   std::vector<Eigen::Vector2d> pixels;
   for (const MarkerSpec& marker : plan_.markers) {
     Eigen::Vector2d centre = plan_.mechanism.heads[marker.head].rest_mm +
@@ -326,12 +336,13 @@ std::vector<Eigen::Vector2d> SceneRenderer::HeadPixels(
       centre += offset / static_cast<double>(marker.layout_mm.size());
     }
     pixels.push_back(
-        camera_.Project(Eigen::Vector3d(centre.x(), centre.y(), dot_height_)));
+        Project(Eigen::Vector3d(centre.x(), centre.y(), dot_height_), motion));
   }
   return pixels;
 }
 
-std::vector<Eigen::Vector2d> SceneRenderer::TagCorners() const {
+std::vector<Eigen::Vector2d> SceneRenderer::TagCorners(
+    const CameraMotion& motion) const {
   if (!plan_.calibration.tag) return {};
   const double h = plan_.calibration.tag->size_mm / 2.0;
   std::vector<Eigen::Vector2d> corners;
@@ -339,7 +350,7 @@ std::vector<Eigen::Vector2d> SceneRenderer::TagCorners() const {
        {Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, -h), Eigen::Vector2d(h, h),
         Eigen::Vector2d(-h, h)}) {
     const Eigen::Vector2d p = tag_center_mm_ + c;
-    corners.push_back(camera_.Project(Eigen::Vector3d(p.x(), p.y(), 0.0)));
+    corners.push_back(Project(Eigen::Vector3d(p.x(), p.y(), 0.0), motion));
   }
   return corners;
 }
@@ -470,25 +481,67 @@ void SceneRenderer::DrawMoving(const Eigen::VectorXd& displacements_mm,
 }
 
 cv::Mat SceneRenderer::RenderLinear(
-    const std::vector<Eigen::VectorXd>& displacement_samples) const {
+    const std::vector<Eigen::VectorXd>& displacement_samples,
+    bool tag_visible) const {
+  const cv::Mat& background =
+      tag_visible ? background_ : background_without_tag_;
   if (displacement_samples.size() == 1) {
-    cv::Mat image = background_.clone();
+    cv::Mat image = background.clone();
     DrawMoving(displacement_samples[0], &image);
     return image;
   }
   cv::Mat sum = cv::Mat::zeros(background_.size(), CV_32FC3), image;
   for (const Eigen::VectorXd& sample : displacement_samples) {
-    background_.copyTo(image);
+    background.copyTo(image);
     DrawMoving(sample, &image);
     sum += image;
   }
   return sum / static_cast<double>(displacement_samples.size());
 }
 
+cv::Mat SceneRenderer::Moved(const cv::Mat& linear,
+                             const CameraMotion& motion) const {
+  // Each pixel of the moved camera looks along a ray that the still camera
+  // saw at (distorted) pixel Distort(H^-1 n): sample the still frame there.
+  // Bilinear in float, not cv::remap, whose coordinates are fixed-point
+  // (1/32 px) and would quantise sub-pixel motion.
+  const Eigen::Matrix3d reference_from_current =
+      motion.CurrentFromReference().inverse();
+  const PixelGrid& grid = *pixels_;
+  cv::Mat moved(linear.size(), CV_32FC3);
+  cv::parallel_for_(cv::Range(0, linear.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      auto* out = moved.ptr<cv::Vec3f>(v);
+      for (int u = 0; u < linear.cols; ++u) {
+        const Eigen::Vector3d n =
+            reference_from_current * grid.At(u, v).homogeneous();
+        const Eigen::Vector2d src = camera_.Distort(n.head<2>() / n.z());
+        const double x = std::clamp(src.x(), 0.0, linear.cols - 1.0);
+        const double y = std::clamp(src.y(), 0.0, linear.rows - 1.0);
+        const int x0 = std::min(static_cast<int>(x), linear.cols - 2);
+        const int y0 = std::min(static_cast<int>(y), linear.rows - 2);
+        const float a = static_cast<float>(x - x0),
+                    b = static_cast<float>(y - y0);
+        const auto* r0 = linear.ptr<cv::Vec3f>(y0) + x0;
+        const auto* r1 = linear.ptr<cv::Vec3f>(y0 + 1) + x0;
+        out[u] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
+                 b * ((1 - a) * r1[0] + a * r1[1]);
+      }
+    }
+  });
+  return moved;
+}
+
 cv::Mat SceneRenderer::Render(
     const std::vector<Eigen::VectorXd>& displacement_samples,
-    int64_t frame_index) const {
-  const cv::Mat linear = RenderLinear(displacement_samples);
+    int64_t frame_index, const FrameConditions& conditions) const {
+  cv::Mat linear = RenderLinear(displacement_samples, conditions.tag_visible);
+  if (conditions.motion.rotation_rad != Eigen::Vector3d::Zero() ||
+      conditions.motion.scale != 1.0) {
+    linear = Moved(linear, conditions.motion);
+  }
+  const cv::Vec3f exposure =
+      conditions.channel_gain * static_cast<float>(conditions.brightness);
   cv::Mat out(linear.size(), CV_8UC3);
   // Fixed stripes, each with its own seeded generator: the same frame for any
   // number of threads.
@@ -508,7 +561,7 @@ cv::Mat SceneRenderer::Render(
         auto* o = out.ptr<cv::Vec3b>(v);
         for (int u = 0; u < linear.cols; ++u) {
           for (int c = 0; c < 3; ++c) {
-            const float signal = in[u][c] * g[u];
+            const float signal = in[u][c] * g[u] * exposure[c];
             const float sigma =
                 std::sqrt(static_cast<float>(options_.noise_sigma_dn *
                                              options_.noise_sigma_dn) +

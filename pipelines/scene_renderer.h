@@ -9,8 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "pipelines/bench_conditions.h"
 #include "pipelines/test_plan.h"
 #include "vision/camera.h"
+#include "vision/camera_motion.h"
 
 namespace softbench {
 
@@ -30,6 +32,9 @@ struct RenderOptions {
   double vignetting = 0.2;          // relative darkening at the corners
   bool red_tube = false;            // a red air tube crossing the frame
   bool glint = false;               // a specular glint on each head
+  // The ring and its pads: static structure beside the tag that the
+  // registration can use (false: a plain table around the mechanism).
+  bool ring = true;
   double exposure_s = 1.0 / 60.0;
   bool motion_blur = true;
   uint64_t seed = 1;
@@ -62,25 +67,37 @@ class SceneRenderer {
   // The linear frame (float BGR, 0..255, before lighting and noise) with the
   // heads at each of `displacement_samples` (y1, z1, ...), averaged: several
   // samples across the exposure give motion blur.
-  cv::Mat RenderLinear(
-      const std::vector<Eigen::VectorXd>& displacement_samples) const;
-  // The 8-bit frame as the camera records it: lighting, vignetting and noise
-  // (seeded by the options' seed and `frame_index`) applied to RenderLinear.
+  cv::Mat RenderLinear(const std::vector<Eigen::VectorXd>& displacement_samples,
+                       bool tag_visible = true) const;
+  // The 8-bit frame as the camera records it: RenderLinear seen by the
+  // camera after `conditions.motion` (the linear frame resampled exactly
+  // along the moved camera's rays, bilinearly in full precision), then
+  // exposure, white balance, lighting, vignetting and noise (seeded by the
+  // options' seed and `frame_index`).
   cv::Mat Render(const std::vector<Eigen::VectorXd>& displacement_samples,
-                 int64_t frame_index) const;
+                 int64_t frame_index,
+                 const FrameConditions& conditions = {}) const;
 
-  // The dots at given displacements.
-  std::vector<DotTruth> Dots(const Eigen::VectorXd& displacements_mm) const;
+  // The dots at given displacements, seen by the camera after `motion`.
+  std::vector<DotTruth> Dots(const Eigen::VectorXd& displacements_mm,
+                             const CameraMotion& motion = {}) const;
   // The centre of each head's dots, projected (distortion applied).
   std::vector<Eigen::Vector2d> HeadPixels(
-      const Eigen::VectorXd& displacements_mm) const;
+      const Eigen::VectorXd& displacements_mm,
+      const CameraMotion& motion = {}) const;
   // The tag's four outer black-border corners in pixels, in AprilTag's order
   // (counter-clockwise in the printed tag, starting bottom-left).
-  std::vector<Eigen::Vector2d> TagCorners() const;
+  std::vector<Eigen::Vector2d> TagCorners(
+      const CameraMotion& motion = {}) const;
   double dot_plane_height_mm() const { return dot_height_; }
 
  private:
   void DrawStatic();
+  // A world point's pixel in the camera after `motion`.
+  Eigen::Vector2d Project(const Eigen::Vector3d& point_in_world,
+                          const CameraMotion& motion) const;
+  // `linear` as the camera after `motion` sees it.
+  cv::Mat Moved(const cv::Mat& linear, const CameraMotion& motion) const;
   void DrawMoving(const Eigen::VectorXd& displacements_mm,
                   cv::Mat* image) const;
 
@@ -92,8 +109,9 @@ class SceneRenderer {
   double ring_inner_mm_ = 0.0, ring_outer_mm_ = 0.0;
   Eigen::Vector2d centre_mm_ = Eigen::Vector2d::Zero();
   std::shared_ptr<const PixelGrid> pixels_;
-  cv::Mat background_;  // CV_32FC3, static layers
-  cv::Mat gain_;        // CV_32FC1, lighting x vignetting
+  cv::Mat background_;              // CV_32FC3, static layers
+  cv::Mat background_without_tag_;  // the same with the tag taken away
+  cv::Mat gain_;                    // CV_32FC1, lighting x vignetting
 };
 
 // BGR of a marker colour name (test_plan.h's list), as printed dots.

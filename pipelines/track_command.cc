@@ -20,6 +20,9 @@ void AddTrackCommand(CLI::App* app, TrackCommandOptions* options) {
   c->add_option("--rest-s", options->rest_s,
                 "seconds of rest at the start, when the plan has no times")
       ->capture_default_str();
+  c->add_flag("--no-registration", options->no_registration,
+              "take the camera to be still instead of registering every "
+              "frame to the bench");
   c->add_flag("--full-frame", options->full_frame,
               "search the whole image in every frame (slow; for checks)");
 }
@@ -30,6 +33,7 @@ int RunTrack(const TrackCommandOptions& options, std::ostream& out) {
   if (!(options.rest_s > 0.0)) throw InputError("--rest-s: must be > 0");
   measure.rest_s = options.rest_s;
   measure.tracker.full_frame_every_frame = options.full_frame;
+  measure.register_frames = !options.no_registration;
   measure.progress = !options.quiet;
   const VideoMeasurement m = MeasureVideo(plan, options.video_path, measure);
   WriteFileAtomically(options.output_path, TrajectoryCsv(plan, m));

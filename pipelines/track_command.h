@@ -11,9 +11,10 @@ namespace softbench {
 struct TrackCommandOptions {
   std::string plan_path;
   std::string video_path;
-  std::string output_path;  // trajectory CSV
-  double rest_s = 1.0;      // rest window when the plan has no times
-  bool full_frame = false;  // search the whole image in every frame
+  std::string output_path;       // trajectory CSV
+  double rest_s = 1.0;           // rest window when the plan has no times
+  bool full_frame = false;       // search the whole image in every frame
+  bool no_registration = false;  // take the camera to be still
   bool quiet = false;
 };
 

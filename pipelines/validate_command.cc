@@ -42,6 +42,10 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
       {"tilt_deg", m.mapping->TiltRad() * 180.0 / std::numbers::pi},
       {"distortion_check", m.distortion.message},
       {"distortion_warning", m.distortion.warn}};
+  root["registration"] = {{"method", m.registration},
+                          {"unregistered_frames", m.unregistered_frames},
+                          {"first_reason", m.unregistered_reason},
+                          {"camera_moved_windows", r.camera_moved_windows}};
   root["frames"] = m.frames.size();
   root["every_frame"] = m.every_frame;
   root["missing_dots"] = m.missing_dots;
@@ -71,8 +75,14 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
     json test = {{"id", t.id}, {"status", t.status}, {"reason", t.reason}};
     for (int k = 0; k < 3; ++k) {
       const WindowSummary& w = t.windows[k];
-      json window = {
-          {"start_s", w.start_s}, {"end_s", w.end_s}, {"frames", w.frames}};
+      json window = {{"start_s", w.start_s},
+                     {"end_s", w.end_s},
+                     {"frames", w.frames},
+                     {"unregistered_frames", w.unregistered_frames},
+                     {"camera_shift_px",
+                      {JsonNumber(w.camera_shift_px.x()),
+                       JsonNumber(w.camera_shift_px.y())}},
+                     {"camera_motion_px", w.camera_motion_px}};
       for (size_t h = 0; h < w.median_mm.size(); ++h) {
         window["heads"].push_back(
             {{"frames", w.head_frames[h]},
@@ -111,6 +121,9 @@ void AddValidateCommand(CLI::App* app, ValidateCommandOptions* options) {
   c->add_option("--rest-s", options->rest_s,
                 "plan without times: seconds at rest at the video's start")
       ->capture_default_str();
+  c->add_flag("--no-registration", options->no_registration,
+              "take the camera to be still instead of registering every "
+              "frame to the bench (the thesis's method)");
   c->add_flag("--windows-only", options->windows_only,
               "read only the frames of the tests' windows, seeking between "
               "them (needs the times in the plan)");
@@ -210,6 +223,7 @@ VideoValidation ValidateVideo(TestPlan plan,
                               bool progress) {
   VideoMeasurementOptions measure;
   measure.progress = progress;
+  measure.register_frames = !options.no_registration;
   const bool times_known = plan.HasTimes() && holds.empty();
   measure.rest_s = times_known ? *plan.tests.front().actuate_s : options.rest_s;
   if (times_known) {

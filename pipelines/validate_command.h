@@ -28,6 +28,7 @@ struct ValidateCommandOptions {
   // Read only the frames of the tests' windows, seeking between them (the
   // plan must give the times); trajectory.csv then holds those frames only.
   bool windows_only = false;
+  bool no_registration = false;  // take the camera to be still
   bool quiet = false;
   ValidationOptions validation;
   TestPointDetectionOptions detection;

@@ -1,6 +1,7 @@
 #include "pipelines/validation.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -86,12 +87,53 @@ std::string SharedCause(const TestPlan& plan,
   return text;
 }
 
+// Names each window (once, however many tests share it) in which the
+// camera moved, and says how far.
+void WarnCameraMotion(const std::vector<TestScore>& tests,
+                      const VideoMeasurement& measurement,
+                      ValidationResult* result) {
+  struct Moved {
+    const WindowSummary* window;
+    std::vector<std::string> names;
+  };
+  std::vector<Moved> moved;
+  for (const TestScore& test : tests) {
+    for (int k = 0; k < 3; ++k) {
+      const WindowSummary& w = test.windows[k];
+      if (!w.camera_moved) continue;
+      const std::string name = test.id + " " + kWindowNames[k];
+      auto same = std::find_if(moved.begin(), moved.end(), [&](const Moved& m) {
+        return m.window->start_s == w.start_s && m.window->end_s == w.end_s;
+      });
+      if (same == moved.end()) {
+        moved.push_back({&w, {name}});
+      } else {
+        same->names.push_back(name);
+      }
+    }
+  }
+  for (const Moved& m : moved) {
+    const std::string names = fmt::format("{}", fmt::join(m.names, " = "));
+    result->camera_moved_windows.push_back(names);
+    result->warnings.push_back(fmt::format(
+        "the camera moved {:.2f} px ({:.3f} mm at the dot plane) during "
+        "window {} ({:.2f}-{:.2f} s); every frame is registered to the "
+        "bench, so the positions are corrected, but steady the tripod",
+        m.window->camera_motion_px,
+        m.window->camera_motion_px * measurement.mm_per_px, names,
+        m.window->start_s, m.window->end_s));
+  }
+}
+
 }  // namespace
 
 std::optional<std::string> ValidationOptions::Check() const {
   if (!(recommended_hold_s >= 0.0)) return "recommended_hold_s must be >= 0";
   if (!(min_window_coverage > 0.0 && min_window_coverage <= 1.0)) {
     return "min_window_coverage must be in (0, 1]";
+  }
+  if (!(camera_motion_warning_px > 0.0)) {
+    return "camera_motion_warning_px must be > 0";
   }
   return std::nullopt;
 }
@@ -131,6 +173,8 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   window->median_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   window->spread_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   std::vector<std::array<std::vector<double>, 2>> values(num_heads);
+  std::array<std::vector<double>, 2> camera;
+  window->unregistered_frames = 0;
   // Frames are in time order: only the window's own are visited.
   const auto by_time = [](const FrameSample& frame, double time_s) {
     return frame.time_s < time_s;
@@ -143,12 +187,27 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   for (auto it = begin; it != end; ++it) {
     const FrameSample& frame = *it;
     ++window->frames;
+    if (!frame.registered) {
+      ++window->unregistered_frames;
+    } else {
+      camera[0].push_back(frame.camera_shift_px.x());
+      camera[1].push_back(frame.camera_shift_px.y());
+    }
     for (int h = 0; h < num_heads; ++h) {
       const HeadSample& head = frame.heads[h];
       if (!head.observation.complete) continue;
       ++window->head_frames[h];
       values[h][0].push_back(head.displacement_mm.x());
       values[h][1].push_back(head.displacement_mm.y());
+    }
+  }
+  window->camera_motion_px = 0.0;
+  if (!camera[0].empty()) {
+    for (int a = 0; a < 2; ++a) {
+      window->camera_shift_px[a] = Median(camera[a]);
+      window->camera_motion_px =
+          std::max(window->camera_motion_px,
+                   Quantile(camera[a], 0.95) - Quantile(camera[a], 0.05));
     }
   }
   for (int h = 0; h < num_heads; ++h) {
@@ -191,6 +250,8 @@ ValidationResult ScoreTests(const TestPlan& plan,
     for (int k = 0; k < 3; ++k) {
       WindowSummary& window = score.windows[k];
       SummariseWindow(measurement, num_heads, &window);
+      window.camera_moved =
+          window.camera_motion_px > options.camera_motion_warning_px;
       for (int h = 0; h < num_heads; ++h) {
         if (window.head_frames[h] <
                 options.min_window_coverage * std::max(window.frames, 1) ||
@@ -199,8 +260,12 @@ ValidationResult ScoreTests(const TestPlan& plan,
           score.reason = fmt::format(
               "{} window {:.2f}-{:.2f} s: {}", kWindowNames[k], window.start_s,
               window.end_s,
-              window.frames == 0
-                  ? "no frames (beyond the video?)"
+              window.frames == 0 ? "no frames (beyond the video?)"
+              : 2 * window.unregistered_frames > window.frames
+                  ? fmt::format("{} of {} frames could not be registered to "
+                                "the bench ({})",
+                                window.unregistered_frames, window.frames,
+                                measurement.unregistered_reason)
                   : fmt::format("{} complete in {} of {} frames",
                                 plan.mechanism.heads[h].name,
                                 window.head_frames[h], window.frames));
@@ -282,6 +347,7 @@ ValidationResult ScoreTests(const TestPlan& plan,
         "not be at equilibrium",
         shortest_hold_s, options.recommended_hold_s));
   }
+  WarnCameraMotion(result.tests, measurement, &result);
   for (const TestScore& score : result.tests) {
     const double rest_s = score.windows[kFinalWindow].end_s -
                           score.windows[kActuatedWindow].end_s;

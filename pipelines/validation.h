@@ -25,6 +25,11 @@ struct ValidationOptions {
   // A window needs the head complete (every dot found) in at least this
   // fraction of its frames to count as measured.
   double min_window_coverage = 0.5;
+  // A window in which the camera moved further than this (its shift's 5-95 %
+  // range, either axis) [px] is named in a warning: the registration
+  // corrects it, but a tripod that moves during a window is worth fixing.
+  // Tremor (< 0.1 px) and a slow drift stay below it; a bump does not.
+  double camera_motion_warning_px = 0.5;
 
   std::optional<std::string> Check() const;
 };
@@ -39,6 +44,13 @@ struct WindowSummary {
   // (1.4826 x median absolute deviation), NaN when not measured.
   std::vector<Eigen::Vector2d> median_mm;
   std::vector<Eigen::Vector2d> spread_mm;
+  // The camera during the window (registered frames): its median shift
+  // since the reference frame and how far it moved within the window (the
+  // larger axis's 5-95 % range) [px]; frames not registered to the bench.
+  Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Constant(NAN);
+  double camera_motion_px = 0.0;
+  bool camera_moved = false;  // above camera_motion_warning_px
+  int unregistered_frames = 0;
 
   // The frame the report shows for the window.
   double middle_s() const { return 0.5 * (start_s + end_s); }
@@ -91,6 +103,10 @@ struct ValidationResult {
   std::vector<std::string> hysteresis_flagged;  // test ids
   std::string hysteresis_cause;  // what the flagged tests share, if anything
   std::vector<std::string> warnings;
+  // The windows in which the camera moved (camera_motion_warning_px), each
+  // once, as "b actuated" (a test's final window is the next one's
+  // initial window: "a final = b initial").
+  std::vector<std::string> camera_moved_windows;
   // Where the test points' times came from ("the plan", "the motion ...").
   std::string times_source = "the plan";
 };

@@ -114,6 +114,38 @@ json ErrorChart(const TestPlan& plan, const ValidationResult& r) {
             {{"field", "error"}}}}}}}}};
 }
 
+// A chart over the video's time: the windows shaded (`window_colour` and
+// `window_tooltip` encode them) under lines of `values` (fields t, axis,
+// segment, where lines break, and `field`).
+json TimeChart(const std::string& title, const json& windows,
+               const json& window_colour, const json& window_tooltip,
+               const json& values, const std::string& field,
+               const std::string& y_title, int height) {
+  return {
+      {"$schema", kVegaLiteSchema},
+      {"title", title},
+      {"width", 1000},
+      {"height", height},
+      {"layer",
+       {{{"data", {{"values", windows}}},
+         {"mark", {{"type", "rect"}, {"opacity", 0.25}}},
+         {"encoding",
+          {{"x", {{"field", "start"}, {"type", "quantitative"}}},
+           {"x2", {{"field", "end"}}},
+           {"color", window_colour},
+           {"tooltip", window_tooltip}}}},
+        {{"data", {{"values", values}}},
+         {"mark", {{"type", "line"}, {"strokeWidth", 1}}},
+         {"encoding",
+          {{"x",
+            {{"field", "t"}, {"type", "quantitative"}, {"title", "time [s]"}}},
+           {"y",
+            {{"field", field}, {"type", "quantitative"}, {"title", y_title}}},
+           {"stroke", {{"field", "axis"}, {"type", "nominal"}}},
+           {"detail", {{"field", "segment"}}}}}}}},
+      {"resolve", {{"scale", {{"color", "independent"}}}}}};
+}
+
 // The trajectory of every head over time, with the windows shaded.
 json TrajectoryChart(const TestPlan& plan, const VideoMeasurement& m,
                      const ValidationResult& r) {
@@ -144,34 +176,56 @@ json TrajectoryChart(const TestPlan& plan, const VideoMeasurement& m,
                          {"test", t.id}});
     }
   }
-  return {
-      {"$schema", kVegaLiteSchema},
-      {"title", "Head displacements over time; windows shaded"},
-      {"width", 1000},
-      {"height", 260},
-      {"layer",
-       {{{"data", {{"values", windows}}},
-         {"mark", {{"type", "rect"}, {"opacity", 0.25}}},
-         {"encoding",
-          {{"x", {{"field", "start"}, {"type", "quantitative"}}},
-           {"x2", {{"field", "end"}}},
-           {"color",
-            {{"field", "window"},
-             {"type", "nominal"},
-             {"scale", {{"range", {"#4c78a8", "#f58518", "#54a24b"}}}}}},
-           {"tooltip", {{{"field", "test"}}, {{"field", "window"}}}}}}},
-        {{"data", {{"values", values}}},
-         {"mark", {{"type", "line"}, {"strokeWidth", 1}}},
-         {"encoding",
-          {{"x",
-            {{"field", "t"}, {"type", "quantitative"}, {"title", "time [s]"}}},
-           {"y",
-            {{"field", "mm"},
-             {"type", "quantitative"},
-             {"title", "displacement [mm]"}}},
-           {"stroke", {{"field", "axis"}, {"type", "nominal"}}},
-           {"detail", {{"field", "segment"}}}}}}}},
-      {"resolve", {{"scale", {{"color", "independent"}}}}}};
+  return TimeChart("Head displacements over time; windows shaded", windows,
+                   {{"field", "window"},
+                    {"type", "nominal"},
+                    {"scale", {{"range", {"#4c78a8", "#f58518", "#54a24b"}}}}},
+                   {{{"field", "test"}}, {{"field", "window"}}}, values, "mm",
+                   "displacement [mm]", 260);
+}
+
+// The camera's shift since the reference frame over the whole video (the
+// registration to the bench), with the windows shaded and those in which
+// the camera moved named.
+json CameraMotionChart(const VideoMeasurement& m, const ValidationResult& r) {
+  json values = json::array();
+  int segment = 0;
+  for (size_t i = 0; i < m.frames.size(); ++i) {
+    const FrameSample& f = m.frames[i];
+    if (i > 0 && f.frame > m.frames[i - 1].frame + 1) ++segment;
+    if (!f.registered) {
+      ++segment;
+      continue;
+    }
+    for (int axis = 0; axis < 2; ++axis) {
+      values.push_back({{"t", f.time_s},
+                        {"axis", axis == 0 ? "x (right)" : "y (down)"},
+                        {"px", f.camera_shift_px[axis]},
+                        {"segment", segment}});
+    }
+  }
+  json windows = json::array();
+  for (const TestScore& t : r.tests) {
+    for (int k = 0; k < 3; ++k) {
+      const WindowSummary& w = t.windows[k];
+      windows.push_back({{"start", w.start_s},
+                         {"end", w.end_s},
+                         {"window", w.camera_moved ? "camera moved" : "window"},
+                         {"test", t.id + " " + kWindowNames[k]},
+                         {"motion_px", w.camera_motion_px}});
+    }
+  }
+  return TimeChart(
+      "Camera shift since the first frame [px] (" + m.registration +
+          "); windows shaded",
+      windows,
+      {{"field", "window"},
+       {"type", "nominal"},
+       {"scale",
+        {{"domain", {"window", "camera moved"}},
+         {"range", {"#bab0ac", "#e45756"}}}}},
+      {{{"field", "test"}}, {{"field", "motion_px"}, {"format", ".2f"}}},
+      values, "px", "camera shift [px]", 200);
 }
 
 // A mark drawn over a crop, at a sub-pixel position in the frame.
@@ -311,6 +365,7 @@ std::string ValidationReportHtml(const TestPlan& plan,
   report.AddChart(PositionChart(plan, r));
   report.AddChart(ErrorChart(plan, r));
   report.AddChart(TrajectoryChart(plan, m, r));
+  if (m.registers_frames) report.AddChart(CameraMotionChart(m, r));
   report.AddHeading("Frames");
   AddCrops(plan, m, r, &report);
   report.AddHeading("Test points");
@@ -369,6 +424,12 @@ std::string ValidationReportHtml(const TestPlan& plan,
                     : "intrinsics " + plan.calibration.intrinsics_path},
        {"mm per pixel at the image centre", fmt::format("{:.5f}", m.mm_per_px)},
        {"distortion check", m.distortion.message},
+       {"registration to the bench", m.registration},
+       {"frames not registered",
+        m.unregistered_frames == 0
+            ? std::string("0")
+            : fmt::format("{} ({}: {})", m.unregistered_frames,
+                          UnregisteredSpans(m.frames), m.unregistered_reason)},
        {"frames", std::to_string(m.frames.size())},
        {"dot-frames missing", std::to_string(m.missing_dots)},
        {"frames searched in full", std::to_string(m.full_frame_frames)},

@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 #include <set>
 #include <thread>
 
@@ -28,6 +29,8 @@ namespace softbench {
 std::optional<std::string> VideoMeasurementOptions::Check() const {
   if (tag_frames < 1) return "tag_frames must be >= 1";
   if (!(rest_s > 0.0)) return "rest_s must be > 0";
+  if (auto problem = registration.Check()) return problem;
+  if (auto problem = camera_path.Check()) return problem;
   return tracker.Check();
 }
 
@@ -37,9 +40,9 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 // The tag's corners over the first frames, combined by a per-coordinate
 // median (robust to one bad detection); throws when the plan's tag is absent.
-PlaneMapping MappingFromTag(const TestPlan& plan, const std::string& path,
-                            const CameraIntrinsics& intrinsics,
-                            int tag_frames) {
+std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
+                                                   const std::string& path,
+                                                   int tag_frames) {
   const TagSpec& tag = *plan.calibration.tag;
   VideoReaderOptions reader_options;
   reader_options.want_bgr = false;
@@ -91,8 +94,17 @@ PlaneMapping MappingFromTag(const TestPlan& plan, const std::string& path,
       corners[c][axis] = Median(values);
     }
   }
-  return PlaneMapping::FromTag(intrinsics, corners, tag.size_mm,
-                               plan.calibration.plane_offset_mm);
+  return corners;
+}
+
+// A head observation for a frame that could not be measured at all.
+HeadObservation Unmeasured(int dots, const std::string& why) {
+  HeadObservation obs;
+  obs.dots.assign(dots, DotObservation{});
+  obs.position_mm = obs.pixel = obs.binary_position_mm =
+      Eigen::Vector2d(kNan, kNan);
+  obs.note = why;
+  return obs;
 }
 
 double MeanPairDistance(const std::vector<Eigen::Vector2d>& points) {
@@ -126,14 +138,94 @@ std::vector<TimeSpan> MergeSpans(std::vector<TimeSpan> spans, double duration_s,
   return merged;
 }
 
+// What every frame is registered to: the video's first frame, its tag (the
+// corners of the mapping, re-located in that frame) and where its static
+// patches may be taken.
+struct RegistrationReference {
+  cv::Mat luma;
+  cv::Mat static_mask;
+  std::optional<TagReference> tag;
+};
+
+// Outside the mechanism: the hull of its fixed anchors and heads at rest,
+// grown by 14 mm (the bellows' 11 mm half width where they meet the
+// anchors, and the heads' travel), is where things move; the ring and the
+// mounts outside it stay. The mapping's origin is its tag's (or
+// the image centre's), not the mechanism's: the heads found in `first`
+// place the mechanism's frame on the plane (the axes are the same).
+cv::Mat StaticMask(const TestPlan& plan, const PlaneMapping& mapping,
+                   const FrameSource& first) {
+  HeadTracker tracker(mapping, PlanHeadMarkers(plan));
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+  int heads = 0;
+  const std::vector<HeadObservation> found = tracker.Measure(first);
+  for (size_t h = 0; h < found.size(); ++h) {
+    if (!found[h].position_mm.allFinite()) continue;
+    offset += found[h].position_mm -
+              plan.mechanism.heads[plan.markers[h].head].rest_mm;
+    ++heads;
+  }
+  const cv::Size size = first.luma().size();
+  // Without a head in view the first frame fails later with its own
+  // message; no patch is taken meanwhile.
+  if (heads == 0) return cv::Mat(size, CV_8UC1, cv::Scalar(0));
+  offset /= heads;
+  std::vector<cv::Point> outline;
+  const auto add = [&](const Eigen::Vector2d& mm) {
+    const Eigen::Vector2d px = mapping.ToPixel(mm + offset);
+    outline.emplace_back(cvRound(px.x()), cvRound(px.y()));
+  };
+  for (const FixedAnchor& a : plan.mechanism.fixed_anchors) add(a.position_mm);
+  for (const Head& h : plan.mechanism.heads) add(h.rest_mm);
+  std::vector<cv::Point> hull;
+  cv::convexHull(outline, hull);
+  cv::Mat moving(size, CV_8UC1, cv::Scalar(0));
+  cv::fillConvexPoly(moving, hull, cv::Scalar(255));
+  const Eigen::Vector2d centre(size.width / 2.0, size.height / 2.0);
+  const int grow = cvRound(14.0 / mapping.MmPerPixelAt(centre));
+  cv::dilate(moving, moving,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                       cv::Size(2 * grow + 1, 2 * grow + 1)));
+  return 255 - moving;
+}
+
+RegistrationReference MakeRegistrationReference(
+    const TestPlan& plan, const std::string& path, const PlaneMapping& mapping,
+    const std::optional<std::array<Eigen::Vector2d, 4>>& tag_corners) {
+  VideoReaderOptions reader_options;
+  reader_options.want_bgr = false;
+  VideoReader reader(path, reader_options);
+  VideoFrame frame;
+  if (!reader.Read(&frame))
+    throw InputError(path + ": the video has no frames");
+  RegistrationReference reference;
+  reference.luma = frame.luma.clone();
+  reference.static_mask =
+      StaticMask(plan, mapping, VideoFrameSource(&reader, &frame));
+  if (tag_corners) {
+    TagReference& tag = reference.tag.emplace();
+    tag.id = plan.calibration.tag->id;
+    tag.corners = RefineTagCorners(reference.luma, *tag_corners, {}, 0.25)
+                      .value_or(*tag_corners);
+  }
+  return reference;
+}
+
 // Measures spans of a video with one reader and one tracker, keeping the
 // frames, the snapshots asked for and the counts.
 class SpanMeasurer {
  public:
-  SpanMeasurer(const TestPlan& plan, const std::string& path, double mm_per_px,
-               HeadTracker tracker, const std::vector<double>& snapshot_times,
-               int decoder_threads, std::atomic<int64_t>* frames_done)
+  // `registration`, when given, registers every frame to the bench before
+  // its heads are measured, through `mapping` after the camera's motion.
+  SpanMeasurer(const TestPlan& plan, const std::string& path,
+               const PlaneMapping& mapping, double mm_per_px,
+               HeadTracker tracker,
+               std::unique_ptr<BenchRegistration> registration,
+               const std::vector<double>& snapshot_times, int decoder_threads,
+               std::atomic<int64_t>* frames_done)
       : plan_(&plan),
+        mapping_(mapping),
+        registration_(std::move(registration)),
         mm_per_px_(mm_per_px),
         reader_(std::make_unique<VideoReader>(
             path, VideoReaderOptions{.want_luma = true,
@@ -144,6 +236,9 @@ class SpanMeasurer {
         frames_done_(frames_done) {}
 
   const HeadTracker& tracker() const { return tracker_; }
+  int patch_count() const {
+    return registration_ ? registration_->patch_count() : 0;
+  }
   // Throw InputError when the first frame measured lacks a dot: it is the
   // heads' reference.
   void RequireCompleteFirstFrame() { first_frame_complete_ = true; }
@@ -169,6 +264,12 @@ class SpanMeasurer {
       FrameSample sample;
       sample.frame = frame.index;
       sample.time_s = frame.time_s;
+      if (!Register(frame, &sample)) {
+        frames_.push_back(std::move(sample));
+        ++*frames_done_;
+        poll();
+        continue;
+      }
       bool full = false;
       for (HeadObservation& obs : tracker_.Measure(source)) {
         if (first_frame_complete_ && frames_.empty() && !obs.complete) {
@@ -205,10 +306,45 @@ class SpanMeasurer {
     m->missing_dots += missing_dots_;
     m->rejected_blobs += rejected_blobs_;
     m->full_frame_frames += full_frame_frames_;
+    m->unregistered_frames += unregistered_frames_;
+    if (m->unregistered_reason.empty()) {
+      m->unregistered_reason = unregistered_reason_;
+    }
   }
 
  private:
+  // Registers the frame to the bench and gives the tracker the frame's
+  // mapping; false (the sample filled with unmeasured heads) when the frame
+  // cannot be registered.
+  bool Register(const VideoFrame& frame, FrameSample* sample) {
+    if (registration_ == nullptr) return true;
+    const FrameRegistration r = registration_->Register(frame.luma);
+    sample->registered = r.registered;
+    if (!r.registered) {
+      if (first_frame_complete_ && frames_.empty()) {
+        throw InputError(fmt::format(
+            "{}: first frame measured (t = {:.3f} s) cannot be registered to "
+            "the bench: {}",
+            reader_->path(), frame.time_s, r.why_not));
+      }
+      ++unregistered_frames_;
+      if (unregistered_reason_.empty()) unregistered_reason_ = r.why_not;
+      for (const MarkerSpec& marker : plan_->markers) {
+        sample->heads.push_back(
+            {Unmeasured(marker.dots, "frame not registered: " + r.why_not),
+             Eigen::Vector2d(kNan, kNan), Eigen::Vector2d(kNan, kNan)});
+      }
+      return false;
+    }
+    sample->camera_motion = r.motion;
+    tracker_.SetMapping(
+        mapping_.AfterCameraMotion(r.motion.CurrentFromReference()));
+    return true;
+  }
+
   const TestPlan* plan_;
+  PlaneMapping mapping_;
+  std::unique_ptr<BenchRegistration> registration_;
   double mm_per_px_;
   std::unique_ptr<VideoReader> reader_;
   HeadTracker tracker_;
@@ -217,8 +353,40 @@ class SpanMeasurer {
   std::vector<FrameSample> frames_;
   std::vector<FrameSnapshot> snapshots_;
   int missing_dots_ = 0, rejected_blobs_ = 0, full_frame_frames_ = 0;
+  int unregistered_frames_ = 0;
+  std::string unregistered_reason_;
   bool first_frame_complete_ = false;
 };
+
+// Replaces each registered frame's own camera motion by the camera's path
+// (SmoothCameraPath: knocks kept, a codec's slow wobble of the static edges
+// averaged) and measures its heads again through it.
+void FollowCameraPath(const PlaneMapping& mapping, const HeadTracker& tracker,
+                      const CameraPathOptions& options, double fps,
+                      std::vector<FrameSample>* frames) {
+  std::vector<double> times;
+  std::vector<CameraMotion> raw;
+  std::vector<bool> valid;
+  for (const FrameSample& f : *frames) {
+    times.push_back(f.time_s);
+    raw.push_back(f.camera_motion);
+    valid.push_back(f.registered);
+  }
+  const std::vector<CameraMotion> path = SmoothCameraPath(
+      mapping.intrinsics(), times, raw, valid, 1.5 / fps, options);
+  for (size_t i = 0; i < frames->size(); ++i) {
+    FrameSample& f = (*frames)[i];
+    if (!f.registered) continue;
+    f.camera_motion = path[i];
+    f.camera_shift_px = path[i].ShiftPx(mapping.intrinsics());
+    f.camera_roll_rad = path[i].roll_rad();
+    const PlaneMapping moved =
+        mapping.AfterCameraMotion(path[i].CurrentFromReference());
+    for (size_t h = 0; h < f.heads.size(); ++h) {
+      tracker.Remap(static_cast<int>(h), moved, &f.heads[h].observation);
+    }
+  }
+}
 
 }  // namespace
 
@@ -250,13 +418,18 @@ CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
   return k;
 }
 
-PlaneMapping PlanMapping(const TestPlan& plan, const std::string& video_path,
-                         const CameraIntrinsics& intrinsics, int tag_frames,
-                         std::string* source) {
+PlaneMapping PlanMapping(
+    const TestPlan& plan, const std::string& video_path,
+    const CameraIntrinsics& intrinsics, int tag_frames, std::string* source,
+    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners) {
   const CalibrationSpec& c = plan.calibration;
   if (c.tag) {
     *source = fmt::format("tag {}", c.tag->id);
-    return MappingFromTag(plan, video_path, intrinsics, tag_frames);
+    const std::array<Eigen::Vector2d, 4> corners =
+        TagCornersFromVideo(plan, video_path, tag_frames);
+    if (tag_corners != nullptr) *tag_corners = corners;
+    return PlaneMapping::FromTag(intrinsics, corners, c.tag->size_mm,
+                                 c.plane_offset_mm);
   }
   const double rotation = c.image_rotation_deg * std::numbers::pi / 180.0;
   if (c.mm_per_px) {
@@ -322,8 +495,22 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   m.video_path = video_path;
   m.fps = info.fps;
   const CalibrationSpec& c = plan.calibration;
-  const PlaneMapping mapping = PlanMapping(plan, video_path, intrinsics,
-                                           options.tag_frames, &m.scale_source);
+  std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
+  const PlaneMapping mapping =
+      PlanMapping(plan, video_path, intrinsics, options.tag_frames,
+                  &m.scale_source, &tag_corners);
+  m.registers_frames = options.register_frames;
+  // Each measurer registers with its own copy, to one shared reference.
+  const std::optional<RegistrationReference> reference =
+      options.register_frames ? std::optional(MakeRegistrationReference(
+                                    plan, video_path, mapping, tag_corners))
+                              : std::nullopt;
+  const auto registration = [&]() -> std::unique_ptr<BenchRegistration> {
+    if (!reference) return nullptr;
+    return std::make_unique<BenchRegistration>(
+        intrinsics, reference->luma, reference->static_mask, reference->tag,
+        options.registration);
+  };
   m.mm_per_px = mapping.MmPerPixelAt(
       Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
   m.mapping = mapping;
@@ -358,10 +545,17 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   std::vector<SpanMeasurer> measurers;
   measurers.reserve(jobs);  // the copies below refer to the first one
   measurers.emplace_back(
-      plan, video_path, m.mm_per_px,
+      plan, video_path, mapping, m.mm_per_px,
       HeadTracker(mapping, PlanHeadMarkers(plan), options.tracker),
-      snapshot_times, m.every_frame ? 0 : 1, &frames_done);
+      registration(), snapshot_times, m.every_frame ? 0 : 1, &frames_done);
   measurers.front().RequireCompleteFirstFrame();
+  m.registration =
+      reference
+          ? fmt::format(
+                "every frame, by {}{} static patches",
+                reference->tag ? fmt::format("tag {} and ", c.tag->id) : "",
+                measurers.front().patch_count())
+          : "off: the camera is taken to be still";
   if (m.every_frame) {
     measurers.front().Measure(spans.front(), false,
                               [&] { progress.Update(frames_done); });
@@ -375,9 +569,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
         {spans.front().start_s, spans.front().start_s + half_frame_s}, true,
         [] {});
     for (int j = 1; j < jobs; ++j) {
-      measurers.emplace_back(plan, video_path, m.mm_per_px,
-                             measurers.front().tracker(), snapshot_times, 1,
-                             &frames_done);
+      measurers.emplace_back(plan, video_path, mapping, m.mm_per_px,
+                             measurers.front().tracker(), registration(),
+                             snapshot_times, 1, &frames_done);
     }
     RunParallelTasks(
         jobs, jobs,
@@ -391,8 +585,19 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   }
   progress.Finish();
   for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
+  if (reference) {
+    FollowCameraPath(mapping, measurers.front().tracker(), options.camera_path,
+                     info.fps, &m.frames);
+  }
   if (m.frames.empty())
     throw InputError(video_path + ": the video has no frames");
+  if (2 * m.unregistered_frames > static_cast<int>(m.frames.size())) {
+    throw InputError(fmt::format(
+        "{}: {} of {} frames could not be registered to the bench ({}: {}); "
+        "keep the plan's tag uncovered and in view for the whole video",
+        video_path, m.unregistered_frames, m.frames.size(),
+        UnregisteredSpans(m.frames), m.unregistered_reason));
+  }
   m.last_frame_s = m.every_frame ? m.frames.back().time_s : info.LastFrameS();
 
   // Rest: before the first actuation when the plan has times.
@@ -432,6 +637,32 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
     m.distortion = CheckDistortion(plan, m.frames, m.scale_source);
   }
   return m;
+}
+
+std::string UnregisteredSpans(const std::vector<FrameSample>& frames) {
+  std::vector<std::string> spans;
+  for (size_t i = 0; i < frames.size();) {
+    if (frames[i].registered) {
+      ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j + 1 < frames.size() && !frames[j + 1].registered) ++j;
+    spans.push_back(i == j ? fmt::format("frame {} (t = {:.3f} s)",
+                                         frames[i].frame, frames[i].time_s)
+                           : fmt::format("frames {}-{} (t = {:.3f}-{:.3f} s)",
+                                         frames[i].frame, frames[j].frame,
+                                         frames[i].time_s, frames[j].time_s));
+    i = j + 1;
+  }
+  std::string text;
+  for (size_t k = 0; k < spans.size() && k < 5; ++k) {
+    text += (k > 0 ? ", " : "") + spans[k];
+  }
+  if (spans.size() > 5) {
+    text += fmt::format(" and {} more stretches", spans.size() - 5);
+  }
+  return text;
 }
 
 const FrameSample* FindFrame(const VideoMeasurement& measurement,
@@ -530,7 +761,8 @@ std::string TrajectoryCsv(const TestPlan& plan,
                           const VideoMeasurement& measurement) {
   std::string csv =
       "frame,time_s,head,u_px,v_px,y_mm,z_mm,sigma_mm,dots_found,dots,"
-      "rotation_rad,binary_y_mm,binary_z_mm,full_frame,note\n";
+      "rotation_rad,binary_y_mm,binary_z_mm,full_frame,registered,"
+      "camera_dx_px,camera_dy_px,camera_roll_rad,note\n";
   for (const FrameSample& f : measurement.frames) {
     for (size_t h = 0; h < f.heads.size(); ++h) {
       const HeadSample& s = f.heads[h];
@@ -539,12 +771,14 @@ std::string TrajectoryCsv(const TestPlan& plan,
       std::replace(note.begin(), note.end(), ',', ';');
       csv += fmt::format(
           "{},{:.6f},{},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{},{},{:.6f},"
-          "{:.5f},{:.5f},{},{}\n",
+          "{:.5f},{:.5f},{},{},{:.4f},{:.4f},{:.7f},{}\n",
           f.frame, f.time_s, plan.mechanism.heads[plan.markers[h].head].name,
           o.pixel.x(), o.pixel.y(), s.displacement_mm.x(),
           s.displacement_mm.y(), o.sigma_mm, o.dots_found, o.dots.size(),
           o.rotation_rad, s.binary_displacement_mm.x(),
-          s.binary_displacement_mm.y(), o.full_frame ? 1 : 0, note);
+          s.binary_displacement_mm.y(), o.full_frame ? 1 : 0,
+          f.registered ? 1 : 0, f.camera_shift_px.x(), f.camera_shift_px.y(),
+          f.camera_roll_rad, note);
     }
   }
   return csv;

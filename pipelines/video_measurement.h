@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "pipelines/test_plan.h"
+#include "vision/bench_registration.h"
+#include "vision/camera_path.h"
 #include "vision/head_tracker.h"
 #include "vision/plane_mapping.h"
 
@@ -26,6 +28,12 @@ struct VideoMeasurementOptions {
   // actuation (plan times) or, without times, over the first `rest_s`.
   double rest_s = 1.0;
   HeadTrackerOptions tracker;
+  // Register every frame to the bench through the plan's tag, so a camera
+  // that drifts, trembles or is bumped does not move the heads (plans with
+  // a tag; without one the camera is taken to be still).
+  bool register_frames = true;
+  BenchRegistrationOptions registration;
+  CameraPathOptions camera_path;
   // Only the frames in these spans are measured, seeking from one to the
   // next (validate --windows-only); empty: every frame.
   std::vector<TimeSpan> spans;
@@ -49,6 +57,14 @@ struct FrameSample {
   int64_t frame = 0;
   double time_s = 0.0;
   std::vector<HeadSample> heads;  // in the plan's head order
+  // The frame's registration to the bench: false when the tag could not be
+  // located (the heads are then not measured in this frame: never against a
+  // stale registration). The camera's shift since the reference frames is
+  // that of the content at the principal point [px]; roll clockwise [rad].
+  bool registered = true;
+  CameraMotion camera_motion;  // the camera's path (SmoothCameraPath)
+  Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Zero();
+  double camera_roll_rad = 0.0;
 };
 
 // The heads of one frame, cut out for the report's annotated pictures.
@@ -90,6 +106,12 @@ struct VideoMeasurement {
   int missing_dots = 0;                  // dot-frames without a dot
   int full_frame_frames = 0;  // frames that needed a full-image search
   int rejected_blobs = 0;     // same-colour blobs rejected in all frames
+  // How frames were registered to the bench ("every frame, by tag 3", or
+  // why not), and the frames that could not be, with the first reason.
+  std::string registration;
+  bool registers_frames = false;
+  int unregistered_frames = 0;
+  std::string unregistered_reason;
   DistortionCheck distortion;
 };
 
@@ -100,10 +122,12 @@ CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
 
 // Pixels to the dot plane as the plan's calibration says: from its tag
 // (median of the corners over the video's first `tag_frames` frames) or its
-// mm_per_px. `source` receives a name for it ("tag 0", "mm_per_px").
-PlaneMapping PlanMapping(const TestPlan& plan, const std::string& video_path,
-                         const CameraIntrinsics& intrinsics, int tag_frames,
-                         std::string* source);
+// mm_per_px. `source` receives a name for it ("tag 0", "mm_per_px");
+// `tag_corners` (optional) the tag's corners the mapping was made from.
+PlaneMapping PlanMapping(
+    const TestPlan& plan, const std::string& video_path,
+    const CameraIntrinsics& intrinsics, int tag_frames, std::string* source,
+    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners = nullptr);
 
 // The plan's heads as the tracker needs them.
 std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan);
@@ -115,6 +139,11 @@ std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan);
 VideoMeasurement MeasureVideo(const TestPlan& plan,
                               const std::string& video_path,
                               const VideoMeasurementOptions& options);
+
+// The stretches of frames that could not be registered to the bench, for
+// messages: "frames 61-330 (t = 2.033-11.000 s), frame 402 (...)" (at most
+// five, then how many more).
+std::string UnregisteredSpans(const std::vector<FrameSample>& frames);
 
 // The measured frame on screen at `time_s` (within half a frame), or null.
 const FrameSample* FindFrame(const VideoMeasurement& measurement,

@@ -11,19 +11,28 @@ softbench=./build/release/softbench
 out=samples
 [[ "${1:-}" == "--check" ]] && out=$(mktemp -d)
 
-render() {  # name seed
+render() {  # name seed rate-control-and-bench-conditions...
   mkdir -p "$out/$1"
-  "$softbench" render --plan "samples/$1/plan.yaml" --output "$out/$1/$1.mp4" \
-    --truth "$out/$1/truth.csv" --plan-out "$out/$1/rendered.plan.yaml" \
-    --resolution 1080p --codec h264 --crf 20 --keyframe-interval-s 2 --seed "$2"
+  local name=$1 seed=$2
+  shift 2
+  "$softbench" render --plan "samples/$name/plan.yaml" \
+    --output "$out/$name/$name.mp4" --truth "$out/$name/truth.csv" \
+    --plan-out "$out/$name/rendered.plan.yaml" --resolution 1080p \
+    --codec h264 --seed "$seed" "$@"
 }
-render delta 11
-render floating 12
+render delta 11 --crf 20 --keyframe-interval-s 2
+render floating 12 --crf 20 --keyframe-interval-s 2
+# A phone on a tripod (samples/phone/plan.yaml says what happens when).
+render phone 13 --bitrate-mbps 10 --keyframe-interval-s 1 \
+  --camera-drift-px 0.4,-0.3 --camera-tremor-px 0.08 \
+  --camera-bump 2.5:2,0.5,0.05 --camera-bump 8.2:-1.5,1.2,-0.04 \
+  --camera-bump 14:1.2,-1.6,0.03 --exposure-drift 0.3 \
+  --white-balance-drift-k 300 --drift-period-s 8
 
 if [[ "$out" == samples ]]; then
   (cd samples && sha256sum delta/delta.mp4 delta/truth.csv floating/floating.mp4 \
-    floating/truth.csv > SHA256SUMS)
-  ls -l samples/delta samples/floating
+    floating/truth.csv phone/phone.mp4 phone/truth.csv > SHA256SUMS)
+  ls -l samples/delta samples/floating samples/phone
 else
   (cd "$out" && sha256sum -c "$OLDPWD/samples/SHA256SUMS") && rm -rf "$out"
 fi

@@ -283,22 +283,10 @@ bool HeadTracker::Detect(const FrameSource& frame, const cv::Rect& region,
 
 void HeadTracker::Finish(int head, HeadObservation* out) {
   const HeadMarkers& markers = heads_[head];
-  std::vector<Eigen::Vector2d> found_mm, first_mm;
-  std::vector<int> found;
-  double variance_px = 0.0;
-  for (int i = 0; i < markers.dots; ++i) {
-    DotObservation& d = out->dots[i];
-    if (!d.found) continue;
-    d.plane_mm = mapping_.ToPlane(d.pixel);
-    d.binary_plane_mm = mapping_.ToPlane(d.binary_pixel);
-    found.push_back(i);
-    variance_px += d.sigma_px * d.sigma_px;
-    claimed_.push_back(d.pixel);
+  ToPlane(head, mapping_, out);
+  for (const DotObservation& d : out->dots) {
+    if (d.found) claimed_.push_back(d.pixel);
   }
-  out->complete = out->dots_found == markers.dots;
-  out->position_mm = out->binary_position_mm = out->pixel =
-      Eigen::Vector2d(kNan, kNan);
-  if (found.empty()) return;
   if (out->complete && first_dots_mm_[head].empty()) {
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     for (const DotObservation& d : out->dots) mean += d.plane_mm;
@@ -308,6 +296,51 @@ void HeadTracker::Finish(int head, HeadObservation* out) {
       first_offsets_mm_[head][i] = out->dots[i].plane_mm - mean;
     }
   }
+  Locate(head, mapping_, out);
+  if (out->dots_found == 0) return;
+  if (last_pixels_[head].empty()) {
+    last_pixels_[head].assign(markers.dots, out->pixel);
+  }
+  for (int i = 0; i < markers.dots; ++i) {
+    if (out->dots[i].found) last_pixels_[head][i] = out->dots[i].pixel;
+  }
+  if (!out->complete && out->note.empty()) {
+    out->note =
+        fmt::format("{} of {} dots found", out->dots_found, markers.dots);
+  }
+}
+
+void HeadTracker::Remap(int head, const PlaneMapping& mapping,
+                        HeadObservation* observation) const {
+  ToPlane(head, mapping, observation);
+  Locate(head, mapping, observation);
+}
+
+void HeadTracker::ToPlane(int head, const PlaneMapping& mapping,
+                          HeadObservation* out) const {
+  for (int i = 0; i < heads_[head].dots; ++i) {
+    DotObservation& d = out->dots[i];
+    if (!d.found) continue;
+    d.plane_mm = mapping.ToPlane(d.pixel);
+    d.binary_plane_mm = mapping.ToPlane(d.binary_pixel);
+  }
+  out->complete = out->dots_found == heads_[head].dots;
+}
+
+void HeadTracker::Locate(int head, const PlaneMapping& mapping,
+                         HeadObservation* out) const {
+  const HeadMarkers& markers = heads_[head];
+  std::vector<Eigen::Vector2d> found_mm, first_mm;
+  std::vector<int> found;
+  double variance_px = 0.0;
+  for (int i = 0; i < markers.dots; ++i) {
+    if (!out->dots[i].found) continue;
+    found.push_back(i);
+    variance_px += out->dots[i].sigma_px * out->dots[i].sigma_px;
+  }
+  out->position_mm = out->binary_position_mm = out->pixel =
+      Eigen::Vector2d(kNan, kNan);
+  if (found.empty()) return;
   // Rotation from the dots found, against their first positions.
   if (!first_dots_mm_[head].empty() && found.size() >= 2) {
     for (int i : found) {
@@ -329,17 +362,9 @@ void HeadTracker::Finish(int head, HeadObservation* out) {
   }
   out->position_mm = position / found.size();
   out->binary_position_mm = binary / found.size();
-  out->pixel = mapping_.ToPixel(out->position_mm);
-  const double mm_per_px = mapping_.MmPerPixelAt(out->pixel);
+  out->pixel = mapping.ToPixel(out->position_mm);
+  const double mm_per_px = mapping.MmPerPixelAt(out->pixel);
   out->sigma_mm = mm_per_px * std::sqrt(variance_px) / found.size();
-  if (last_pixels_[head].empty()) {
-    last_pixels_[head].assign(markers.dots, out->pixel);
-  }
-  for (int i : found) last_pixels_[head][i] = out->dots[i].pixel;
-  if (!out->complete && out->note.empty()) {
-    out->note =
-        fmt::format("{} of {} dots found", out->dots_found, markers.dots);
-  }
 }
 
 }  // namespace softbench

@@ -94,6 +94,17 @@ class HeadTracker {
   // Measures every head in one frame.
   std::vector<HeadObservation> Measure(const FrameSource& frame);
 
+  // The mapping of the frames measured next: the reference mapping after the
+  // camera's motion (BenchRegistration), so positions stay on the bench
+  // while the camera moves. Dot sizes keep the reference's scale.
+  void SetMapping(const PlaneMapping& mapping) { mapping_ = mapping; }
+
+  // Recomputes an observation of `head` from its dots' pixels through
+  // another mapping (plane coordinates, position, rotation, uncertainty),
+  // as Measure would have with it; the tracker's state is not touched.
+  void Remap(int head, const PlaneMapping& mapping,
+             HeadObservation* observation) const;
+
   // After a seek or a gap: the next frame does not follow the dots from
   // their last positions but detects each head afresh (layout and all),
   // near where it was or else in the full image. Rotation and missing-dot
@@ -114,8 +125,16 @@ class HeadTracker {
   bool Refine(const FrameSource& frame, int head, int dot,
               const Eigen::Vector2d& blob_centroid,
               const Eigen::Vector2d& start, HeadObservation* out);
-  // Plane coordinates, head position, rotation and uncertainty.
+  // Plane coordinates, head position, rotation and uncertainty, and the
+  // tracking state (first detection, last positions).
   void Finish(int head, HeadObservation* out);
+  // The dots' plane coordinates through `mapping`.
+  void ToPlane(int head, const PlaneMapping& mapping,
+               HeadObservation* out) const;
+  // Rotation, position, pixel and uncertainty from the dots' plane
+  // coordinates.
+  void Locate(int head, const PlaneMapping& mapping,
+              HeadObservation* out) const;
 
   PlaneMapping mapping_;
   std::vector<HeadMarkers> heads_;

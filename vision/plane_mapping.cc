@@ -56,6 +56,11 @@ PlaneMapping PlaneMapping::FromScale(const CameraIntrinsics& intrinsics,
   return {camera, m};
 }
 
+PlaneMapping PlaneMapping::AfterCameraMotion(
+    const Eigen::Matrix3d& current_from_reference) const {
+  return {camera_, plane_from_normalized_ * current_from_reference.inverse()};
+}
+
 Eigen::Vector2d PlaneMapping::ToPlane(const Eigen::Vector2d& pixel) const {
   const Eigen::Vector3d q =
       plane_from_normalized_ * camera_.Undistort(pixel).homogeneous();

@@ -33,6 +33,13 @@ class PlaneMapping {
   static PlaneMapping FromScale(const CameraIntrinsics& intrinsics,
                                 double mm_per_px, double image_rotation_rad);
 
+  // The same plane seen after the camera moved: `current_from_reference`
+  // takes this mapping's ideal normalised coordinates to the moved camera's
+  // (CameraMotion::CurrentFromReference), so a frame registered to the
+  // bench maps its pixels to the same millimetres.
+  PlaneMapping AfterCameraMotion(
+      const Eigen::Matrix3d& current_from_reference) const;
+
   Eigen::Vector2d ToPlane(const Eigen::Vector2d& pixel) const;
   std::vector<Eigen::Vector2d> ToPlane(
       const std::vector<Eigen::Vector2d>& pixels) const;

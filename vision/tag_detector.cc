@@ -36,10 +36,15 @@ double Sample(const cv::Mat& gray, double u, double v) {
 //   offset = d - integral_{-d}^{d} (p(s) - black) ds / (white - black),
 // which a symmetric blur (the pixel's area sampling, interpolation) does not
 // change, unlike a threshold crossing. Returns false when too few points had
-// clean levels.
+// clean levels; `fit` (optional) receives how many of the points sampled
+// were clean and the RMS distance of the edge points from the line.
+struct EdgeFit {
+  int sampled = 0, clean = 0;
+  double rms_px = 0.0;
+};
 bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
              const Eigen::Vector2d& b, const TagDetectorOptions& options,
-             cv::Vec4f* line) {
+             cv::Vec4f* line, EdgeFit* fit = nullptr) {
   const Eigen::Vector2d along = (b - a).normalized();
   // Outward normal: libapriltag's corners run counter-clockwise as seen on
   // screen, so with y down outward is (-along_y, along_x).
@@ -47,7 +52,8 @@ bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
   const double d = options.edge_half_width_px, step = 0.25;
   const double length = (b - a).norm();
   std::vector<cv::Point2f> points;
-  for (double t = 0.2 * length; t <= 0.8 * length; t += 0.5) {
+  int sampled = 0;
+  for (double t = 0.2 * length; t <= 0.8 * length; t += 0.5, ++sampled) {
     const Eigen::Vector2d p = a + t * along;
     std::vector<double> profile;
     for (double s = -d; s <= d + 1e-9; s += step) {
@@ -74,6 +80,17 @@ bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
   }
   if (points.size() < 8) return false;
   cv::fitLine(points, *line, cv::DIST_L2, 0, 1e-6, 1e-6);
+  if (fit != nullptr) {
+    double sum = 0.0;
+    for (const cv::Point2f& q : points) {
+      // Distance from the line through (x0, y0) along (vx, vy).
+      const double d =
+          ((*line)[0] * (q.y - (*line)[3]) - (*line)[1] * (q.x - (*line)[2]));
+      sum += d * d;
+    }
+    *fit = {sampled, static_cast<int>(points.size()),
+            std::sqrt(sum / points.size())};
+  }
   return true;
 }
 
@@ -87,6 +104,26 @@ Eigen::Vector2d Intersect(const cv::Vec4f& l1, const cv::Vec4f& l2) {
 }
 
 }  // namespace
+
+std::optional<std::array<Eigen::Vector2d, 4>> RefineTagCorners(
+    const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
+    const TagDetectorOptions& options, double max_edge_rms_px) {
+  std::array<cv::Vec4f, 4> edges;
+  for (int c = 0; c < 4; ++c) {
+    EdgeFit fit;
+    // A covered or shadowed stretch leaves points out or bends the edge.
+    if (!FitEdge(gray, approximate[c], approximate[(c + 1) % 4], options,
+                 &edges[c], &fit) ||
+        fit.clean < 0.9 * fit.sampled || fit.rms_px > max_edge_rms_px) {
+      return std::nullopt;
+    }
+  }
+  std::array<Eigen::Vector2d, 4> corners;
+  for (int c = 0; c < 4; ++c) {
+    corners[c] = Intersect(edges[(c + 3) % 4], edges[c]);
+  }
+  return corners;
+}
 
 struct TagDetector::Apriltag {
   apriltag_family_t* family = tag36h11_create();

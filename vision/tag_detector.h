@@ -62,6 +62,15 @@ class TagDetector {
   std::unique_ptr<Apriltag> apriltag_;
 };
 
+// The outer corners of a tag already known to within a few pixels (the last
+// frame's): each edge located afresh as TagDetector does and intersected.
+// nullopt when an edge is partly hidden (under 90 % of its profiles have
+// clean black and white ends) or not straight (RMS of its points about the
+// line above `max_edge_rms_px`): a covered tag is never half-measured.
+std::optional<std::array<Eigen::Vector2d, 4>> RefineTagCorners(
+    const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
+    const TagDetectorOptions& options, double max_edge_rms_px);
+
 }  // namespace softbench
 
 #endif  // SOFTBENCH_VISION_TAG_DETECTOR_H_

@@ -23,6 +23,9 @@ std::optional<std::string> VideoWriterOptions::Check() const {
   }
   if (!(fps > 0.0) || fps > 1000.0) return "fps must be in (0, 1000]";
   if (crf < 0 || crf > 51) return "crf must be between 0 and 51";
+  if (!(bitrate_mbps >= 0.0 && bitrate_mbps <= 1000.0)) {
+    return "bitrate must be 0 (use the CRF) or up to 1000 Mb/s";
+  }
   if (threads < 1) return "threads must be >= 1";
   if (!(keyframe_interval_s > 0.0)) return "keyframe interval must be > 0";
   if (rotation_deg % 90 != 0) return "rotation must be a multiple of 90";
@@ -115,7 +118,14 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
     s.codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   }
   av_opt_set(s.codec->priv_data, "preset", options.preset.c_str(), 0);
-  av_opt_set(s.codec->priv_data, "crf", std::to_string(options.crf).c_str(), 0);
+  if (options.bitrate_mbps > 0.0) {
+    s.codec->bit_rate = static_cast<int64_t>(options.bitrate_mbps * 1e6);
+    s.codec->rc_max_rate = s.codec->bit_rate * 3 / 2;
+    s.codec->rc_buffer_size = static_cast<int>(s.codec->bit_rate);
+  } else {
+    av_opt_set(s.codec->priv_data, "crf", std::to_string(options.crf).c_str(),
+               0);
+  }
   if (options.codec == "hevc") {
     av_opt_set(s.codec->priv_data, "x265-params",
                ("log-level=none:pools=" + std::to_string(options.threads) +

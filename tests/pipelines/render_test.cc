@@ -85,6 +85,37 @@ TEST(SceneRenderer, DotCentresAreExactWithoutTilt) {
   }
 }
 
+// A camera that moved (a knock with a roll) sees the dots where the truth
+// says, and the tag's corners too: the frame is resampled along the moved
+// camera's rays in full precision.
+TEST(SceneRenderer, AMovedCameraSeesTheDotsAndTheTagWhereTheTruthSays) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  RenderOptions options = Clean(0.0);
+  options.intrinsics.distortion = {-0.05, 0.0, 0.0, 0.0, 0.0};
+  const SceneRenderer renderer(plan, options);
+  const Eigen::Vector2d x(-0.8137, 0.4519);
+  FrameConditions conditions;
+  conditions.motion = CameraMotion::FromImageShift(
+      options.intrinsics, {2.37, -1.61}, DegToRad(0.08));
+  const cv::Mat moved = renderer.Render({x}, 0, conditions);
+  const std::vector<DotTruth> still = renderer.Dots(x);
+  const std::vector<DotTruth> dots = renderer.Dots(x, conditions.motion);
+  for (size_t i = 0; i < dots.size(); ++i) {
+    EXPECT_GT((dots[i].pixel - still[i].pixel).norm(), 1.5);
+    EXPECT_LT((CoverageCentroid(moved, dots[i].pixel) - dots[i].pixel).norm(),
+              0.01);
+  }
+  cv::Mat gray;
+  cv::cvtColor(moved, gray, cv::COLOR_BGR2GRAY);
+  const std::vector<TagDetection> tags = TagDetector().Detect(gray);
+  ASSERT_EQ(tags.size(), 1u);
+  const std::vector<Eigen::Vector2d> corners =
+      renderer.TagCorners(conditions.motion);
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_LT((tags[0].corners[c] - corners[c]).norm(), 0.05) << c;
+  }
+}
+
 TEST(SceneRenderer, DotCentresAreExactUnderFiveDegreesOfTilt) {
   const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
   const SceneRenderer renderer(plan, Clean(5.0));

@@ -78,12 +78,14 @@ Eigen::VectorXd TruthMedian(const Truth& truth, const WindowSummary& window) {
 // Scores a bundled sample and checks every measured displacement against
 // the truth in the same windows, and every prediction against predict;
 // `windows_only` reads only the windows' frames.
-ValidationResult CheckSample(const std::string& name, bool windows_only) {
+ValidationResult CheckSample(const std::string& name, bool windows_only,
+                             bool register_frames = true) {
   const std::string dir =
       std::string(SOFTBENCH_SOURCE_DIR) + "/samples/" + name;
   const TestPlan plan = LoadTestPlan(dir + "/rendered.plan.yaml");
   VideoMeasurementOptions measure;
   measure.progress = false;
+  measure.register_frames = register_frames;
   if (windows_only) {
     const VideoInfo info = VideoReader(dir + "/" + name + ".mp4").info();
     for (const auto& windows : PlanWindows(plan, info.LastFrameS())) {
@@ -119,7 +121,7 @@ ValidationResult CheckSample(const std::string& name, bool windows_only) {
   std::array<std::vector<Eigen::VectorXd>, 2> predicted;
   for (int model = 0; model < 2; ++model) {
     PredictOptions predict;
-    predict.model.mechanism = name;
+    predict.model.mechanism = plan.mechanism_name;
     predict.model.model = model == 0 ? "axial-shear" : "pressurized-spring";
     predict.model.pressure_unit = plan.pressure_unit;
     predict.input_path = input;
@@ -142,7 +144,7 @@ ValidationResult CheckSample(const std::string& name, bool windows_only) {
   for (size_t i = 0; i < result.tests.size(); ++i) {
     const TestScore& score = result.tests[i];
     EXPECT_TRUE(score.measured) << score.id << ": " << score.reason;
-    EXPECT_EQ(score.status, "ok") << score.id;
+    EXPECT_NE(score.status, "not measured") << score.id;
     const Eigen::VectorXd true_displacement =
         TruthMedian(truth, score.windows[kActuatedWindow]) -
         TruthMedian(truth, score.windows[kInitialWindow]);
@@ -174,11 +176,14 @@ ValidationResult CheckSample(const std::string& name, bool windows_only) {
 // Both ways to read the video: every frame, and only the windows (seeking
 // between them), which must measure the same displacements: each window's
 // first frame is detected afresh instead of tracked, so its centres may
-// differ within LocateDotCentre's tolerance (1e-4 px, 2e-5 mm).
+// differ within LocateDotCentre's tolerance (1e-4 px, 2e-5 mm). Compared
+// with the camera taken to be still: a registered camera's path is fitted
+// over the frames read, which differ between the two ways.
 TEST(ValidateSamples,
      DeltaDisplacementsMatchTheTruthReadingEveryFrameOrOnlyTheWindows) {
-  const ValidationResult all = CheckSample("delta", false);
-  const ValidationResult windows = CheckSample("delta", true);
+  const ValidationResult all = CheckSample("delta", false, false);
+  const ValidationResult windows = CheckSample("delta", true, false);
+  EXPECT_TRUE(all.hysteresis_flagged.empty());
   ASSERT_EQ(all.tests.size(), windows.tests.size());
   double largest = 0.0;
   for (size_t i = 0; i < all.tests.size(); ++i) {
@@ -194,9 +199,59 @@ TEST(ValidateSamples,
             << largest << " mm\n";
 }
 
+// Registered (the default), both ways of reading meet the bar on their own.
+TEST(ValidateSamples, DeltaRegisteredMeetsTheBarEveryFrameAndWindowsOnly) {
+  for (const bool windows_only : {false, true}) {
+    const ValidationResult result = CheckSample("delta", windows_only);
+    EXPECT_TRUE(result.hysteresis_flagged.empty());
+    EXPECT_TRUE(result.camera_moved_windows.empty());
+  }
+}
+
 TEST(ValidateSamples,
      FloatingDisplacementsMatchTheTruthAndPredictionsMatchPredict) {
-  CheckSample("floating", false);
+  const ValidationResult result = CheckSample("floating", false);
+  EXPECT_TRUE(result.hysteresis_flagged.empty());
+}
+
+// The phone sample: 1080p at 10 Mb/s from a camera that drifts, trembles
+// and is knocked three times (inside test a's hold, inside test b's
+// actuated window, between test c's actuated and final windows), with
+// auto-exposure and white balance wandering; test b slips 0.1 mm. Every
+// displacement within 0.005 mm of the truth (CheckSample), hysteresis on b
+// alone, and the camera named as moving in b's actuated window alone.
+TEST(ValidateSamples, PhoneFootageMeetsTheBarWhileTheCameraMoves) {
+  const ValidationResult result = CheckSample("phone", false);
+  EXPECT_EQ(result.hysteresis_flagged, std::vector<std::string>{"b"});
+  EXPECT_EQ(result.camera_moved_windows,
+            std::vector<std::string>{"b actuated"});
+  for (const TestScore& test : result.tests) {
+    for (const WindowSummary& w : test.windows) {
+      EXPECT_EQ(w.unregistered_frames, 0) << test.id;
+    }
+  }
+}
+
+// The same footage taken as from a still camera (the thesis's method) is
+// off by tenths of a millimetre: the registration is what makes it right.
+TEST(ValidateSamples, PhoneFootageIsWrongWithoutRegistration) {
+  const std::string dir = std::string(SOFTBENCH_SOURCE_DIR) + "/samples/phone";
+  const TestPlan plan = LoadTestPlan(dir + "/rendered.plan.yaml");
+  VideoMeasurementOptions measure;
+  measure.progress = false;
+  measure.register_frames = false;
+  const ValidationResult result =
+      ScoreTests(plan, MeasureVideo(plan, dir + "/phone.mp4", measure),
+                 ValidationOptions());
+  const Truth truth = LoadTruth(dir + "/truth.csv", 1);
+  double worst = 0.0;
+  for (const TestScore& score : result.tests) {
+    const Eigen::VectorXd d = TruthMedian(truth, score.windows[1]) -
+                              TruthMedian(truth, score.windows[0]);
+    worst = std::max(worst, (score.heads[0].measured_mm - d.head<2>()).norm());
+  }
+  EXPECT_GT(worst, 0.1);
+  EXPECT_GT(result.hysteresis_flagged.size(), 1u);
 }
 
 // Test points found from the motion for the plans without times match the
@@ -243,25 +298,39 @@ tests:
   - {id: c, pressures: [0, 0, 6]}
 )";
 
-class ValidateCommandTest : public ScratchDirectoryTest {};
+class ValidateCommandTest : public ScratchDirectoryTest {
+ protected:
+  // The options that render `plan_yaml` as a quick 720p clip (clip.mp4,
+  // truth.csv, rendered.plan.yaml here).
+  RenderCommandOptions QuickRender(const char* plan_yaml) {
+    RenderCommandOptions render;
+    render.plan_path = Write("plan.yaml", plan_yaml);
+    render.output_path = Path("clip.mp4");
+    render.truth_path = Path("truth.csv");
+    render.plan_out_path = Path("rendered.plan.yaml");
+    render.resolution = "720p";
+    render.preset = "veryfast";
+    render.quiet = true;
+    return render;
+  }
+  // Validate's options for the rendered clip, reporting to `directory`.
+  ValidateCommandOptions ValidateClip(const RenderCommandOptions& render,
+                                      const std::string& directory) {
+    ValidateCommandOptions options;
+    options.video_paths = {render.output_path};
+    options.plan_path = render.plan_out_path;
+    options.output_directory = Path(directory);
+    options.quiet = true;
+    return options;
+  }
+};
 
 TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
-  RenderCommandOptions render;
-  render.plan_path = Write("plan.yaml", kSlipPlan);
-  render.output_path = Path("clip.mp4");
-  render.truth_path = Path("truth.csv");
-  render.plan_out_path = Path("rendered.plan.yaml");
-  render.resolution = "720p";
-  render.preset = "veryfast";
-  render.quiet = true;
+  const RenderCommandOptions render = QuickRender(kSlipPlan);
   std::ostringstream out;
   RunRender(render, out);
 
-  ValidateCommandOptions options;
-  options.video_paths = {render.output_path};
-  options.plan_path = render.plan_out_path;
-  options.output_directory = Path("report");
-  options.quiet = true;
+  ValidateCommandOptions options = ValidateClip(render, "report");
   ASSERT_EQ(RunValidate(options, out), 0);
   CsvReader results(Path("report/results.csv"));
   std::vector<std::string_view> fields;
@@ -288,11 +357,16 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
 
   // Only the windows' frames: the same results from fewer frames. A window's
   // first frame after a seek is found afresh rather than tracked, so its
-  // centres may differ within the centre's iteration tolerance.
+  // centres may differ within the centre's iteration tolerance. Compared
+  // with the camera taken to be still (a registered camera's path is fitted
+  // over the frames read).
+  options.no_registration = true;
+  options.output_directory = Path("still");
+  ASSERT_EQ(RunValidate(options, out), 0);
   options.windows_only = true;
   options.output_directory = Path("windows");
   ASSERT_EQ(RunValidate(options, out), 0);
-  CsvReader all(Path("report/results.csv")),
+  CsvReader all(Path("still/results.csv")),
       windows(Path("windows/results.csv"));
   std::vector<std::string_view> a, w;
   while (all.ReadRow(&a)) {
@@ -307,8 +381,41 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
     }
   }
   EXPECT_LT(Count(Read(Path("windows/trajectory.csv")), "\n"),
-            Count(Read(Path("report/trajectory.csv")), "\n"));
+            Count(Read(Path("still/trajectory.csv")), "\n"));
   EXPECT_EQ(Count(Read(Path("windows/report.html")), "<figure><svg"), 9);
+}
+
+// A tag taken away after the first second on a plain table (nothing else
+// static): the frames after it cannot be registered, and validate says
+// which instead of measuring them against a stale registration.
+TEST_F(ValidateCommandTest, NamesTheFramesItCannotRegister) {
+  RenderCommandOptions render = QuickRender(R"(mechanism: delta
+pressure_unit: psi
+calibration:
+  tag: {family: tag36h11, id: 3, size_mm: 25}
+scene: {settle_time_constant_s: 0.1, lead_in_s: 1.5, hold_s: 1.5, rest_s: 2}
+tests:
+  - {id: a, pressures: [6, 0, 0]}
+)");
+  render.no_ring = true;
+  render.conditions.tag_gone_after_s = 1.0;
+  std::ostringstream out;
+  RunRender(render, out);
+  ValidateCommandOptions options = ValidateClip(render, "report");
+  try {
+    RunValidate(options, out);
+    FAIL() << "validated a video whose tag went away";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("could not be registered to the bench (frames 30-"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("tag"), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(Path("report")));
+  // Without registration the camera is taken to be still, as asked.
+  options.no_registration = true;
+  EXPECT_EQ(RunValidate(options, out), 0);
 }
 
 TEST_F(ValidateCommandTest, WindowsOnlyNeedsThePlansTimes) {

@@ -1,0 +1,219 @@
+// The camera-motion model and the static patches that measure it.
+#include "vision/camera_motion.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+#include <opencv2/core.hpp>
+
+#include "vision/camera_path.h"
+#include "vision/plane_mapping.h"
+#include "vision/static_patches.h"
+
+namespace softbench {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+CameraIntrinsics Phone() {
+  CameraIntrinsics k =
+      CameraIntrinsics::FromEquivalentFocalLength(52, 1920, 1080);
+  k.distortion = {-0.08, 0.01, 0.0, 0.0, 0.0};
+  return k;
+}
+
+TEST(CameraMotion, FromImageShiftShiftsThePrincipalPointAsAsked) {
+  const CameraIntrinsics k = Phone();
+  for (const Eigen::Vector2d& shift :
+       {Eigen::Vector2d(0.37, -0.21), Eigen::Vector2d(2.0, 0.5),
+        Eigen::Vector2d(-6.0, 3.0)}) {
+    const CameraMotion m = CameraMotion::FromImageShift(k, shift, 0.0);
+    // Pan and tilt compose as one axis-angle: exact to second order.
+    EXPECT_LT((m.ShiftPx(k) - shift).norm(), 1e-5) << shift.transpose();
+    // A roll turns the image about the principal point, leaving it put
+    // but for the small angles' coupling (about roll x shift / 2).
+    const double roll = 0.05 * kDeg;
+    const CameraMotion rolled = CameraMotion::FromImageShift(k, shift, roll);
+    EXPECT_LT((rolled.ShiftPx(k) - shift).norm(), roll * shift.norm());
+    EXPECT_DOUBLE_EQ(rolled.roll_rad(), 0.05 * kDeg);
+  }
+}
+
+TEST(CameraMotion, IsARotationTimesAnImageScale) {
+  CameraMotion m;
+  m.rotation_rad = {1e-3, -2e-3, 5e-4};
+  m.scale = 1.002;
+  const Eigen::Matrix3d h = m.CurrentFromReference();
+  const Eigen::Matrix3d r =
+      Eigen::Vector3d(1 / m.scale, 1 / m.scale, 1).asDiagonal() * h;
+  EXPECT_LT((r * r.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(r.determinant(), 1.0, 1e-12);
+  EXPECT_TRUE(CameraMotion().CurrentFromReference().isIdentity(0.0));
+}
+
+// What the moved camera sees at a pixel, the reference mapping said of the
+// pixel the still camera saw it at: AfterCameraMotion keeps the plane.
+TEST(PlaneMapping, AfterCameraMotionMapsAMovedPixelToTheSamePoint) {
+  const CameraIntrinsics k = Phone();
+  const Camera camera =
+      Camera::LookingDown(k, {40, 30, 16}, 490, 4 * kDeg, -2 * kDeg);
+  const double h = 12.5;
+  const std::array<Eigen::Vector2d, 4> corners = {
+      camera.Project({-h, -h, 0}), camera.Project({h, -h, 0}),
+      camera.Project({h, h, 0}), camera.Project({-h, h, 0})};
+  const PlaneMapping reference = PlaneMapping::FromTag(k, corners, 25, 16);
+  const CameraMotion motion = CameraMotion::FromImageShift(
+      k, Eigen::Vector2d(1.7, -2.3), 0.08 * kDeg, 1.001);
+  const PlaneMapping moved =
+      reference.AfterCameraMotion(motion.CurrentFromReference());
+  for (const Eigen::Vector2d& p :
+       {Eigen::Vector2d(40, 30), Eigen::Vector2d(70, 5)}) {
+    const Eigen::Vector2d still = camera.Project({p.x(), p.y(), 16});
+    const Eigen::Vector3d n =
+        motion.CurrentFromReference() * camera.Undistort(still).homogeneous();
+    const Eigen::Vector2d now = camera.Distort(n.head<2>() / n.z());
+    EXPECT_GT((now - still).norm(), 1.0);
+    EXPECT_LT((moved.ToPlane(now) - p).norm(), 1e-6) << p.transpose();
+    EXPECT_LT((moved.ToPixel(p) - now).norm(), 1e-6);
+  }
+}
+
+// A drifting camera knocked once, measured with noise: the path keeps the
+// knock as a step and the drift's slope right up to it, and averages the
+// noise away.
+TEST(CameraPath, KeepsAKnockAndADriftAndAveragesNoise) {
+  const CameraIntrinsics k = Phone();
+  std::vector<double> times;
+  std::vector<CameraMotion> truth, measured;
+  cv::RNG rng(5);
+  for (int i = 0; i < 300; ++i) {
+    const double t = i / 30.0;
+    const Eigen::Vector2d shift(0.05 * t + (t >= 5.0 ? 2.0 : 0.0),
+                                t >= 5.0 ? -1.0 : 0.0);
+    const double roll = t >= 5.0 ? 0.05 * kDeg : 0.0;
+    times.push_back(t);
+    truth.push_back(CameraMotion::FromImageShift(k, shift, roll));
+    measured.push_back(CameraMotion::FromImageShift(
+        k, shift + Eigen::Vector2d(rng.gaussian(0.02), rng.gaussian(0.02)),
+        roll + rng.gaussian(1e-5)));
+  }
+  const std::vector<bool> valid(times.size(), true);
+  const std::vector<CameraMotion> path =
+      SmoothCameraPath(k, times, measured, valid, 0.05);
+  double worst = 0.0, raw_rms = 0.0, rms = 0.0;
+  for (size_t i = 0; i < times.size(); ++i) {
+    const double error = (path[i].ShiftPx(k) - truth[i].ShiftPx(k)).norm();
+    worst = std::max(worst, error);
+    rms += error * error / times.size();
+    raw_rms += (measured[i].ShiftPx(k) - truth[i].ShiftPx(k)).squaredNorm() /
+               times.size();
+  }
+  // The frames at the knock keep their own (noisy) motion: 3 sigma.
+  EXPECT_LT(worst, 0.09);
+  EXPECT_LT(std::sqrt(rms), 0.4 * std::sqrt(raw_rms));
+  // Frames far from the knock are within a few thousandths.
+  EXPECT_LT((path[60].ShiftPx(k) - truth[60].ShiftPx(k)).norm(), 0.01);
+  EXPECT_LT((path[200].ShiftPx(k) - truth[200].ShiftPx(k)).norm(), 0.01);
+  EXPECT_NEAR(path[200].roll_rad(), 0.05 * kDeg, 5e-6);
+}
+
+TEST(CameraPath, LeavesUnregisteredFramesAndStretchesApart) {
+  const CameraIntrinsics k = Phone();
+  const std::vector<double> times = {0.0, 0.033, 0.067, 5.0, 5.033};
+  std::vector<CameraMotion> raw;
+  for (double x : {0.0, 0.0, 9.0, 1.0, 1.0}) {
+    raw.push_back(CameraMotion::FromImageShift(k, {x, 0.0}, 0.0));
+  }
+  const std::vector<CameraMotion> path =
+      SmoothCameraPath(k, times, raw, {true, true, false, true, true}, 0.05);
+  EXPECT_NEAR(path[0].ShiftPx(k).x(), 0.0, 1e-9);
+  EXPECT_NEAR(path[2].ShiftPx(k).x(), 9.0, 1e-9);  // as given
+  EXPECT_NEAR(path[3].ShiftPx(k).x(), 1.0, 1e-9);  // its own stretch
+}
+
+// A smooth image (sums of Gaussian spots and a soft straight edge) whose
+// shifted copy is exact: the function itself evaluated at x - shift.
+cv::Mat Scene(const Eigen::Vector2d& shift) {
+  cv::Mat image(240, 320, CV_8UC1);
+  cv::RNG rng(7);
+  std::vector<std::array<double, 4>> spots;  // x, y, sigma, amplitude
+  for (int i = 0; i < 240; ++i) {
+    spots.push_back({rng.uniform(0.0, 160.0), rng.uniform(0.0, 240.0),
+                     rng.uniform(2.0, 4.0), rng.uniform(-70.0, 70.0)});
+  }
+  for (int v = 0; v < image.rows; ++v) {
+    for (int u = 0; u < image.cols; ++u) {
+      const double x = u - shift.x(), y = v - shift.y();
+      double value = 128.0;
+      for (const auto& s : spots) {
+        const double d2 = (x - s[0]) * (x - s[0]) + (y - s[1]) * (y - s[1]);
+        value += s[3] * std::exp(-d2 / (2 * s[2] * s[2]));
+      }
+      if (x > 160.0) {
+        // Right half: a soft edge along (2, 1), dark below-left.
+        const double across =
+            ((x - 240.0) * 1.0 - (y - 120.0) * 2.0) / std::sqrt(5.0);
+        value = 60.0 + 140.0 / (1.0 + std::exp(-across / 1.2));
+      }
+      image.at<uint8_t>(v, u) = cv::saturate_cast<uint8_t>(value);
+    }
+  }
+  return image;
+}
+
+TEST(StaticPatches, FollowSpotsBothWaysAndAnEdgeAcrossItself) {
+  const cv::Mat reference = Scene(Eigen::Vector2d::Zero());
+  // Not across the seam between the spots and the edge: a step there is
+  // no band-limited image, and its shifted samples are not a shift.
+  cv::Mat allowed(reference.size(), CV_8UC1, cv::Scalar(255));
+  allowed.colRange(140, 185).setTo(0);
+  const StaticPatches patches(reference, allowed);
+  ASSERT_GE(patches.size(), 3);
+  const Eigen::Vector2d shift(0.73, -0.41);  // a frame-to-frame step
+  const std::vector<Eigen::Vector2d> start = patches.reference_px();
+  int corners = 0, edges = 0;
+  for (const PatchMatch& m : patches.Track(Scene(shift), start)) {
+    ASSERT_TRUE(m.found) << m.reference_px.transpose();
+    const Eigen::Vector2d moved = m.pixel - m.reference_px;
+    if (m.normal == Eigen::Vector2d::Zero()) {
+      ++corners;
+      EXPECT_LT((moved - shift).norm(), 0.02) << m.reference_px.transpose();
+    } else {
+      ++edges;
+      // Only the motion across the edge is measured, and it is right.
+      EXPECT_NEAR(m.normal.dot(moved), m.normal.dot(shift), 0.02);
+      EXPECT_NEAR(m.normal.dot(Eigen::Vector2d(2, 1).normalized()), 0.0, 0.05);
+    }
+  }
+  EXPECT_GT(corners, 0);
+  EXPECT_GT(edges, 0);
+}
+
+TEST(StaticPatches, TakeNoneFromWeakTextureOrOutsideTheMask) {
+  cv::Mat grain(240, 320, CV_8UC1);
+  cv::RNG(3).fill(grain, cv::RNG::NORMAL, 120, 2);  // a codec's victim
+  EXPECT_EQ(StaticPatches(grain, cv::Mat()).size(), 0);
+  const cv::Mat scene = Scene(Eigen::Vector2d::Zero());
+  EXPECT_EQ(StaticPatches(scene, cv::Mat::zeros(scene.size(), CV_8UC1)).size(),
+            0);
+}
+
+TEST(StaticPatches, LoseAPatchThatIsCovered) {
+  const cv::Mat reference = Scene(Eigen::Vector2d::Zero());
+  const StaticPatches patches(reference, cv::Mat());
+  cv::Mat covered = reference.clone();
+  covered.colRange(0, 160).setTo(200);  // a hand over the spots
+  int found = 0;
+  for (const PatchMatch& m : patches.Track(covered, patches.reference_px())) {
+    if (m.reference_px.x() < 150) {
+      EXPECT_FALSE(m.found);
+    }
+    found += m.found;
+  }
+  EXPECT_GT(found, 0);  // the edge is still there
+}
+
+}  // namespace
+}  // namespace softbench

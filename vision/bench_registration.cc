@@ -1,0 +1,292 @@
+#include "vision/bench_registration.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "vision/frame_source.h"
+
+namespace softbench {
+
+std::optional<std::string> BenchRegistrationOptions::Check() const {
+  if (auto problem = tag.Check()) return problem;
+  if (auto problem = patches.Check()) return problem;
+  if (max_refits < 1) return "max_refits must be >= 1";
+  if (!(refit_tolerance_px > 0.0)) return "refit_tolerance_px must be > 0";
+  if (!(max_edge_rms_px > 0.0)) return "max_edge_rms_px must be > 0";
+  if (!(outlier_px > 0.0)) return "outlier_px must be > 0";
+  if (min_patches < 3) return "min_patches must be >= 3";
+  if (min_patches_for_scale < min_patches) {
+    return "min_patches_for_scale must be >= min_patches";
+  }
+  if (!(max_residual_px > 0.0)) return "max_residual_px must be > 0";
+  return std::nullopt;
+}
+
+namespace {
+
+// How far a point may be from the robust start's motion [px] to join the
+// fit: a bump's roll moves far points differently by up to about this.
+constexpr double kStartGatePx = 1.5;
+
+double LargestMove(const std::array<Eigen::Vector2d, 4>& a,
+                   const std::array<Eigen::Vector2d, 4>& b) {
+  double largest = 0.0;
+  for (int c = 0; c < 4; ++c) largest = std::max(largest, (a[c] - b[c]).norm());
+  return largest;
+}
+
+const BenchRegistrationOptions& Checked(const BenchRegistrationOptions& o) {
+  // A programmer error: options come from code, not from users.
+  if (auto problem = o.Check()) {
+    throw std::logic_error("BenchRegistration: " + *problem);
+  }
+  return o;
+}
+
+// Patches may be taken where the scene is static, but not on the tag: its
+// corners stand for it, and its strong bits would draw every patch to it.
+cv::Mat PatchMask(const cv::Mat& static_mask, const cv::Size& size,
+                  const std::optional<TagReference>& tag) {
+  cv::Mat mask = static_mask.empty() ? cv::Mat(size, CV_8UC1, cv::Scalar(255))
+                                     : static_mask.clone();
+  if (tag) {
+    const double side_px = (tag->corners[0] - tag->corners[2]).norm();
+    const cv::Rect box = BoxAround({tag->corners.begin(), tag->corners.end()},
+                                   0.5 * side_px, size);
+    if (!box.empty()) mask(box).setTo(0);
+  }
+  return mask;
+}
+
+}  // namespace
+
+BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
+                                     const cv::Mat& reference_luma,
+                                     const cv::Mat& static_mask,
+                                     const std::optional<TagReference>& tag,
+                                     const BenchRegistrationOptions& options)
+    : camera_(intrinsics, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()),
+      options_(Checked(options)),
+      tag_(tag),
+      patches_(reference_luma,
+               PatchMask(static_mask, reference_luma.size(), tag),
+               options.patches) {
+  if (tag_) {
+    last_corners_ = tag_->corners;
+    for (int c = 0; c < 4; ++c) {
+      tag_rays_[c] = camera_.Undistort(tag_->corners[c]).homogeneous();
+    }
+  }
+  for (const Eigen::Vector2d& p : patches_.reference_px()) {
+    patch_rays_.push_back(camera_.Undistort(p).homogeneous());
+  }
+}
+
+Eigen::Vector2d BenchRegistration::Predict(const CameraMotion& motion,
+                                           const Eigen::Vector3d& ray) const {
+  const Eigen::Vector3d n = motion.CurrentFromReference() * ray;
+  return camera_.Distort(n.head<2>() / n.z());
+}
+
+Eigen::Vector2d BenchRegistration::Misfit(const CameraMotion& motion,
+                                          const Point& p) const {
+  const Eigen::Vector2d d = Predict(motion, p.ray) - p.pixel;
+  if (p.normal == Eigen::Vector2d::Zero()) return d;
+  return {p.normal.dot(d), 0.0};
+}
+
+double BenchRegistration::FitMotion(const std::vector<Point>& points,
+                                    const std::vector<double>& weights,
+                                    int parameters,
+                                    CameraMotion* motion) const {
+  // Parameters: the rotation vector (pan, tilt, roll) and the log of the
+  // scale; those past `parameters` are held at their start. Gauss-Newton
+  // with central differences: the model is smooth and cheap, and 1e-6 rad
+  // moves a point by a few thousandths of a pixel.
+  const int n = parameters;
+  const auto residuals = [&](const Eigen::Vector4d& p) {
+    CameraMotion m;
+    m.rotation_rad = p.head<3>();
+    m.scale = std::exp(p[3]);
+    Eigen::VectorXd r(2 * points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      r.segment<2>(2 * i) = std::sqrt(weights[i]) * Misfit(m, points[i]);
+    }
+    return r;
+  };
+  Eigen::Vector4d p;
+  p << motion->rotation_rad, std::log(motion->scale);
+  Eigen::VectorXd r = residuals(p);
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    Eigen::MatrixXd jacobian(r.size(), n);
+    for (int k = 0; k < n; ++k) {
+      Eigen::Vector4d step = Eigen::Vector4d::Zero();
+      step[k] = 1e-6;
+      jacobian.col(k) = (residuals(p + step) - residuals(p - step)) / 2e-6;
+    }
+    const Eigen::VectorXd delta = (jacobian.transpose() * jacobian)
+                                      .ldlt()
+                                      .solve(-jacobian.transpose() * r);
+    p.head(n) += delta;
+    r = residuals(p);
+    if (delta.lpNorm<Eigen::Infinity>() < 1e-12) break;
+  }
+  motion->rotation_rad = p.head<3>();
+  motion->scale = std::exp(p[3]);
+  double used = 0.0;
+  for (double w : weights) used += w;
+  return std::sqrt(r.squaredNorm() / std::max(used, 1.0));
+}
+
+std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::Follow(
+    const cv::Mat& luma, std::array<Eigen::Vector2d, 4> start) const {
+  for (int refit = 0; refit < options_.max_refits; ++refit) {
+    const auto corners =
+        RefineTagCorners(luma, start, options_.tag, options_.max_edge_rms_px);
+    if (!corners) return std::nullopt;
+    const double moved = LargestMove(*corners, start);
+    start = *corners;
+    if (moved < options_.refit_tolerance_px) break;
+  }
+  return start;
+}
+
+std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::FindTag(
+    const cv::Mat& luma) {
+  if (!tag_) return std::nullopt;
+  if (auto corners = Follow(luma, last_corners_)) return corners;
+  if (LargestMove(last_corners_, tag_->corners) > 0.0) {
+    if (auto corners = Follow(luma, tag_->corners)) return corners;
+  }
+  // A bump beyond the edge profiles: detect the tag afresh near its last
+  // position (its box grown by its own size).
+  if (detector_ == nullptr) {
+    detector_ = std::make_unique<TagDetector>(options_.tag);
+  }
+  const double side_px = (last_corners_[0] - last_corners_[2]).norm();
+  const cv::Rect region = BoxAround(
+      {last_corners_.begin(), last_corners_.end()}, side_px, luma.size());
+  if (region.empty()) return std::nullopt;
+  for (TagDetection d : detector_->Detect(luma(region))) {
+    if (d.id != tag_->id || !d.refined) continue;
+    for (Eigen::Vector2d& corner : d.corners) {
+      corner += Eigen::Vector2d(region.x, region.y);
+    }
+    return Follow(luma, d.corners);
+  }
+  return std::nullopt;
+}
+
+FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
+  FrameRegistration out;
+  std::vector<Point> points;
+  const std::optional<std::array<Eigen::Vector2d, 4>> corners = FindTag(luma);
+  // The patches start where the tag says the camera went (their own
+  // alignment converges within about a pixel), else where it last was.
+  CameraMotion motion = last_motion_;
+  if (corners) {
+    for (int c = 0; c < 4; ++c) {
+      points.push_back(
+          {tag_rays_[c], (*corners)[c], true, Eigen::Vector2d::Zero()});
+    }
+    FitMotion(points, std::vector<double>(4, 1.0), 2, &motion);
+  }
+  std::vector<Eigen::Vector2d> predicted;
+  for (const Eigen::Vector3d& ray : patch_rays_) {
+    predicted.push_back(Predict(motion, ray));
+  }
+  int patches_found = 0;
+  for (const PatchMatch& m : patches_.Track(luma, predicted)) {
+    if (!m.found) continue;
+    points.push_back({camera_.Undistort(m.reference_px).homogeneous(), m.pixel,
+                      false, m.normal});
+    ++patches_found;
+  }
+  if (!corners && patches_found < options_.min_patches) {
+    out.why_not = fmt::format(
+        "{}and {} of the {} static patches found (at least {} needed)",
+        tag_ ? "the tag's border is covered, shadowed, blurred or out of "
+               "view, "
+             : "no tag in the plan, ",
+        patches_found, patches_.size(), options_.min_patches);
+    return out;
+  }
+  // A robust start: the tag alone when it was found (four corners that
+  // belong together: `motion` already), else the points that moved with
+  // the median since the last frame (a bump moves them all alike; a moving
+  // part does not).
+  std::vector<double> weights(points.size(), 0.0);
+  if (!corners) {
+    std::vector<double> dx, dy;
+    for (const Point& p : points) {
+      const Eigen::Vector2d d = -Misfit(motion, p);
+      dx.push_back(d.x());
+      dy.push_back(d.y());
+    }
+    std::vector<double> sorted_x = dx, sorted_y = dy;
+    std::nth_element(sorted_x.begin(), sorted_x.begin() + dx.size() / 2,
+                     sorted_x.end());
+    std::nth_element(sorted_y.begin(), sorted_y.begin() + dy.size() / 2,
+                     sorted_y.end());
+    const Eigen::Vector2d median(sorted_x[dx.size() / 2],
+                                 sorted_y[dy.size() / 2]);
+    for (size_t i = 0; i < points.size(); ++i) {
+      weights[i] =
+          (Eigen::Vector2d(dx[i], dy[i]) - median).norm() <= kStartGatePx ? 1.0
+                                                                          : 0.0;
+    }
+    FitMotion(points, weights, 2, &motion);
+  }
+  // Then every point near that motion, and again with the final gate; the
+  // roll and the scale are freed when enough patches pin them.
+  double rms = 0.0;
+  for (const double gate : {kStartGatePx, options_.outlier_px}) {
+    bool tag_kept = true;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const double r = Misfit(motion, points[i]).norm();
+      weights[i] = r <= gate ? 1.0 : 0.0;
+      if (points[i].tag_corner && weights[i] == 0.0) tag_kept = false;
+    }
+    out.tag_used = corners.has_value() && tag_kept;
+    out.patches_used = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      // The tag counts whole or not at all.
+      if (points[i].tag_corner && !out.tag_used) weights[i] = 0.0;
+      if (!points[i].tag_corner && weights[i] > 0.0) ++out.patches_used;
+    }
+    if (!out.tag_used && out.patches_used < options_.min_patches) break;
+    out.parameters = out.patches_used >= options_.min_patches_for_scale ? 4
+                     : out.patches_used >= options_.min_patches         ? 3
+                                                                        : 2;
+    rms = FitMotion(points, weights, out.parameters, &motion);
+  }
+  out.residual_px = rms;
+  out.motion = motion;
+  if (corners) out.corners = *corners;
+  if (!out.tag_used && out.patches_used < options_.min_patches) {
+    out.why_not = fmt::format(
+        "the tag and the static patches do not agree on one camera motion "
+        "({} of {} patches consistent)",
+        out.patches_used, patches_found);
+    return out;
+  }
+  if (rms > options_.max_residual_px) {
+    out.why_not = fmt::format(
+        "the static points do not fit one camera motion (RMS {:.2f} px): the "
+        "tag or the bench moved, or the frame is blurred",
+        rms);
+    return out;
+  }
+  out.registered = true;
+  out.shift_px = motion.ShiftPx(camera_.intrinsics());
+  if (out.tag_used) last_corners_ = *corners;
+  last_motion_ = motion;
+  return out;
+}
+
+}  // namespace softbench

@@ -1,0 +1,189 @@
+#include "vision/static_patches.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace softbench {
+
+std::optional<std::string> StaticPatchOptions::Check() const {
+  if (!(cell_px >= 8.0)) return "cell_px must be >= 8";
+  if (max_patches < 0) return "max_patches must be >= 0";
+  if (half_size_px < 3) return "half_size_px must be >= 3";
+  if (!(min_slope_dn_per_px > 0.0)) return "min_slope_dn_per_px must be > 0";
+  if (max_iterations < 1) return "max_iterations must be >= 1";
+  if (!(tolerance_px > 0.0)) return "tolerance_px must be > 0";
+  if (!(max_relative_residual > 0.0)) {
+    return "max_relative_residual must be > 0";
+  }
+  return std::nullopt;
+}
+
+StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
+                             const StaticPatchOptions& options)
+    : options_(options) {
+  if (auto problem = options.Check()) {
+    throw std::logic_error("StaticPatches: " + *problem);
+  }
+  const int h = options.half_size_px, side = 2 * h + 1;
+  cv::Mat image;
+  luma.convertTo(image, CV_32F);
+  // The structure tensor summed over a patch, at every pixel.
+  cv::Mat gx, gy, xx, yy, xy;
+  cv::Sobel(image, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+  cv::Sobel(image, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+  cv::boxFilter(gx.mul(gx), xx, CV_32F, cv::Size(side, side), {-1, -1}, false);
+  cv::boxFilter(gy.mul(gy), yy, CV_32F, cv::Size(side, side), {-1, -1}, false);
+  cv::boxFilter(gx.mul(gy), xy, CV_32F, cv::Size(side, side), {-1, -1}, false);
+  const double min_energy =
+      options.min_slope_dn_per_px * options.min_slope_dn_per_px * side * side;
+  // Keep patches a template and a bump away from the frame's edges.
+  const int border = 2 * h + 8;
+  struct Candidate {
+    double strength;
+    int u, v;
+  };
+  std::vector<Candidate> candidates;
+  const int cell = static_cast<int>(options.cell_px);
+  for (int y0 = border; y0 + cell <= luma.rows - border; y0 += cell) {
+    for (int x0 = border; x0 + cell <= luma.cols - border; x0 += cell) {
+      Candidate best{0.0, -1, -1};
+      for (int v = y0; v < y0 + cell; ++v) {
+        const auto* a = xx.ptr<float>(v);
+        const auto* b = yy.ptr<float>(v);
+        for (int u = x0; u < x0 + cell; ++u) {
+          if (!allowed.empty() && allowed.at<uint8_t>(v, u) == 0) continue;
+          if (a[u] + b[u] > best.strength) best = {a[u] + b[u], u, v};
+        }
+      }
+      // The patch must be allowed whole, not just at its centre.
+      if (best.u < 0 || best.strength < min_energy) continue;
+      if (!allowed.empty() &&
+          cv::countNonZero(allowed(
+              cv::Rect(best.u - h, best.v - h, side, side))) < side * side) {
+        continue;
+      }
+      candidates.push_back(best);
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) {
+              return a.strength > b.strength;
+            });
+  for (const Candidate& c : candidates) {
+    if (static_cast<int>(templates_.size()) >= options.max_patches) break;
+    Eigen::Matrix2d tensor;
+    tensor << xx.at<float>(c.v, c.u), xy.at<float>(c.v, c.u),
+        xy.at<float>(c.v, c.u), yy.at<float>(c.v, c.u);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(tensor);
+    Template t;
+    t.centre = Eigen::Vector2d(c.u, c.v);
+    // A corner when the weaker direction is strong too; else an edge,
+    // measured across itself only.
+    const double weak = eigen.eigenvalues()[0], strong = eigen.eigenvalues()[1];
+    if (weak < min_energy) {
+      // A straight edge only (its slope along itself under a tenth of that
+      // across): a curved one, measured along one normal, is biased.
+      if (weak > 0.1 * strong) continue;
+      t.normal = eigen.eigenvectors().col(1).normalized();
+    }
+    const cv::Rect box(c.u - h - 1, c.v - h - 1, side + 2, side + 2);
+    const cv::Mat region = image(box);
+    t.values = region(cv::Rect(1, 1, side, side)).clone();
+    // Central differences, the same as the bilinear image's slope.
+    t.dx = 0.5 * (region(cv::Rect(2, 1, side, side)) -
+                  region(cv::Rect(0, 1, side, side)));
+    t.dy = 0.5 * (region(cv::Rect(1, 2, side, side)) -
+                  region(cv::Rect(1, 0, side, side)));
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(t.values, mean, stddev);
+    t.contrast = stddev[0];
+    templates_.push_back(std::move(t));
+  }
+}
+
+std::vector<Eigen::Vector2d> StaticPatches::reference_px() const {
+  std::vector<Eigen::Vector2d> centres;
+  for (const Template& t : templates_) centres.push_back(t.centre);
+  return centres;
+}
+
+bool StaticPatches::Align(const cv::Mat& luma, const Template& t,
+                          Eigen::Vector2d* centre) const {
+  const int h = options_.half_size_px, side = 2 * h + 1;
+  const bool edge = t.normal != Eigen::Vector2d::Zero();
+  // Parameters: the shift (along the normal for an edge) and a photometric
+  // gain and offset, luma(x + d) = gain * template(x) + offset.
+  double gain = 1.0, offset = 0.0;
+  Eigen::Vector2d d = *centre;
+  double rms = 0.0;
+  for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
+    const double x0 = d.x() - h, y0 = d.y() - h;
+    const int ix = static_cast<int>(std::floor(x0)),
+              iy = static_cast<int>(std::floor(y0));
+    if (ix < 0 || iy < 0 || ix + side >= luma.cols || iy + side >= luma.rows) {
+      return false;
+    }
+    const double a = x0 - ix, b = y0 - iy;
+    Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
+    double squares = 0.0;
+    for (int v = 0; v < side; ++v) {
+      const uint8_t* r0 = luma.ptr<uint8_t>(iy + v) + ix;
+      const uint8_t* r1 = luma.ptr<uint8_t>(iy + v + 1) + ix;
+      const float* tv = t.values.ptr<float>(v);
+      const float* tx = t.dx.ptr<float>(v);
+      const float* ty = t.dy.ptr<float>(v);
+      for (int u = 0; u < side; ++u) {
+        const double sample = (1 - b) * ((1 - a) * r0[u] + a * r0[u + 1]) +
+                              b * ((1 - a) * r1[u] + a * r1[u + 1]);
+        const double residual = sample - gain * tv[u] - offset;
+        // d residual / d (shift, gain, offset); the image's slope taken as
+        // the template's (scaled by the gain) near the solution.
+        Eigen::Vector4d j(gain * tx[u], gain * ty[u], -tv[u], -1.0);
+        if (edge) {
+          j[0] = gain * (tx[u] * t.normal.x() + ty[u] * t.normal.y());
+          j[1] = 0.0;
+        }
+        normal += j * j.transpose();
+        rhs -= j * residual;
+        squares += residual * residual;
+      }
+    }
+    rms = std::sqrt(squares / (side * side));
+    if (edge) normal(1, 1) = 1.0;  // the unused direction
+    const Eigen::Vector4d step = normal.ldlt().solve(rhs);
+    if (!step.allFinite()) return false;
+    const Eigen::Vector2d shift =
+        edge ? Eigen::Vector2d(step[0] * t.normal) : step.head<2>();
+    d += shift;
+    gain += step[2];
+    offset += step[3];
+    if ((d - *centre).norm() > h) return false;  // ran off: not this patch
+    if (shift.norm() < options_.tolerance_px) break;
+  }
+  if (!(gain > 0.2) ||
+      rms > options_.max_relative_residual * t.contrast * gain) {
+    return false;
+  }
+  *centre = d;
+  return true;
+}
+
+std::vector<PatchMatch> StaticPatches::Track(
+    const cv::Mat& luma, const std::vector<Eigen::Vector2d>& predicted) const {
+  std::vector<PatchMatch> matches(templates_.size());
+  for (size_t i = 0; i < templates_.size(); ++i) {
+    PatchMatch& m = matches[i];
+    m.reference_px = templates_[i].centre;
+    m.normal = templates_[i].normal;
+    m.pixel = predicted[i];
+    m.found = Align(luma, templates_[i], &m.pixel);
+  }
+  return matches;
+}
+
+}  // namespace softbench

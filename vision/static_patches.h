@@ -1,0 +1,89 @@
+#ifndef SOFTBENCH_VISION_STATIC_PATCHES_H_
+#define SOFTBENCH_VISION_STATIC_PATCHES_H_
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace softbench {
+
+struct StaticPatchOptions {
+  // Patches are taken one per cell of this side [px] at most (the strongest
+  // structure in it), so they spread over the frame: together they give the
+  // camera's motion a lever of the whole image, where one tag gives a few
+  // per cent of it.
+  double cell_px = 48.0;
+  int max_patches = 160;
+  // Half side of a patch [px] (a 17 x 17 template).
+  int half_size_px = 8;
+  // Least RMS luma slope [8-bit levels per px] a patch needs, across its
+  // edge (an edge patch: the ring's rim, a mount's side, measured across it
+  // only) or in its weaker direction too (a corner patch: measured in both).
+  // Weak texture, such as table grain, is what a video codec smooths,
+  // freezes and redraws a few tenths of a pixel away at each key frame.
+  double min_slope_dn_per_px = 8.0;
+  // Gauss-Newton steps per patch and frame; a step below this ends them.
+  int max_iterations = 12;
+  double tolerance_px = 1e-3;
+  // Largest RMS difference between a patch and its template after the
+  // photometric fit, relative to the template's own RMS contrast: more means
+  // something covers it or it is not the same surface.
+  double max_relative_residual = 0.25;
+
+  std::optional<std::string> Check() const;
+};
+
+// One patch in one frame.
+struct PatchMatch {
+  bool found = false;
+  Eigen::Vector2d reference_px = Eigen::Vector2d::Zero();  // template centre
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();         // where it is now
+  // An edge patch's unit normal: only the motion along it is measured.
+  // Zero for a corner patch (both directions measured).
+  Eigen::Vector2d normal = Eigen::Vector2d::Zero();
+};
+
+// Small strongly structured patches of a reference frame (the ring's rim,
+// mounts, screws, printed marks), followed in later frames to a few
+// hundredths of a pixel by Lucas-Kanade alignment against their reference
+// templates: a shift (along the normal only, for a straight edge, which
+// shows no motion along itself) plus a gain and an offset, so auto-exposure
+// does not move them. Aligning against the reference, not the last frame,
+// never accumulates drift. Which patches are really static is for the
+// caller's robust fit to decide; a mask keeps the mechanism out from the
+// start.
+class StaticPatches {
+ public:
+  // `luma` CV_8UC1; `allowed` CV_8UC1 of the same size (non-zero where a
+  // patch may be taken) or empty for anywhere.
+  StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
+                const StaticPatchOptions& options = {});
+
+  int size() const { return static_cast<int>(templates_.size()); }
+
+  // Aligns every patch in `luma`, starting each at `predicted[i]` (pixels;
+  // e.g. the reference position moved by the last frame's camera motion).
+  std::vector<PatchMatch> Track(
+      const cv::Mat& luma, const std::vector<Eigen::Vector2d>& predicted) const;
+
+  std::vector<Eigen::Vector2d> reference_px() const;
+
+ private:
+  struct Template {
+    Eigen::Vector2d centre;
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero();  // edge patches
+    cv::Mat values, dx, dy;                            // CV_32FC1, (2 h + 1)^2
+    double contrast = 0.0;                             // RMS about the mean
+  };
+  bool Align(const cv::Mat& luma, const Template& t,
+             Eigen::Vector2d* centre) const;
+
+  StaticPatchOptions options_;
+  std::vector<Template> templates_;
+};
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_STATIC_PATCHES_H_
