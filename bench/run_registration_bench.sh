@@ -9,6 +9,7 @@
 # Usage: bench/run_registration_bench.sh [rounds]   (default 7; medians)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/interleaved_rounds.sh
 runs=${1:-7}
 ./scripts/bootstrap.sh --bench
 cmake --preset release >/dev/null && cmake --build --preset release >/dev/null
@@ -17,21 +18,10 @@ video=samples/phone/phone.mp4
 out=build/bench-registration
 mkdir -p "$out"
 validate="./build/release/softbench --quiet validate $video --plan samples/phone/rendered.plan.yaml"
-# The commands take turns in every round, so a change in the shared host's
-# load hits them alike; the ratios are taken within each round.
 commands=("ffmpeg -v error -i $video -map 0:v -f null -"
   "$validate --out $out/registered"
   "$validate --no-registration --out $out/still")
-: > "$out/times.txt"
-for round in $(seq "$runs"); do
-  line="$round"
-  for command in "${commands[@]}"; do
-    start=$EPOCHREALTIME
-    $command >/dev/null 2>&1
-    line="$line $(python3 -c "print($EPOCHREALTIME - $start)")"
-  done
-  echo "$line" | tee -a "$out/times.txt"
-done
+run_rounds "$runs" "$out/times.txt" "${commands[@]}"
 python3 - "$out/times.txt" <<'PY'
 import statistics, sys
 rounds = [list(map(float, line.split()[1:])) for line in open(sys.argv[1])]

@@ -8,6 +8,7 @@
 # Usage: bench/run_validate_bench.sh [rounds]   (default 5; medians)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/interleaved_rounds.sh
 runs=${1:-5}
 ./scripts/bootstrap.sh --bench
 cmake --preset release >/dev/null && cmake --build --preset release >/dev/null
@@ -26,21 +27,10 @@ ffprobe -v error -select_streams v -show_entries stream=width,height,nb_frames,d
   -of csv=p=0 "$video" | awk -F, '{print "video: " $1 "x" $2 ", " $3 " s, " $4 " frames"}'
 
 validate="./build/release/softbench --quiet validate $video --plan $media/rendered.plan.yaml"
-# The three commands take turns in every round, so a change in the shared
-# host's load hits them alike; the ratios are taken within each round.
 commands=("ffmpeg -v error -i $video -map 0:v -f null -"
   "$validate --out $media/report-full"
   "$validate --windows-only --out $media/report-windows")
-: > "$media/times.txt"
-for round in $(seq "$runs"); do
-  line="$round"
-  for command in "${commands[@]}"; do
-    start=$EPOCHREALTIME
-    $command >/dev/null
-    line="$line $(python3 -c "print($EPOCHREALTIME - $start)")"
-  done
-  echo "$line" | tee -a "$media/times.txt"
-done
+run_rounds "$runs" "$media/times.txt" "${commands[@]}"
 python3 - "$media/times.txt" <<'PY'
 import statistics, sys
 rounds = [list(map(float, line.split()[1:])) for line in open(sys.argv[1])]

@@ -25,7 +25,7 @@ struct BenchRegistrationOptions {
   // Re-fits of the tag's edges per frame, each from the corners the last
   // one found (the profiles re-centre on the edge after a jump), until no
   // corner moves more than refit_tolerance_px.
-  int max_refits = 3;
+  int max_refits = 2;
   double refit_tolerance_px = 0.01;
   // Largest RMS distance of a tag edge's points from its line [px]: more
   // means something covers or shadows the border.

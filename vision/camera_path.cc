@@ -89,12 +89,19 @@ void SmoothStretch(const CameraIntrinsics& k, const std::vector<double>& t,
     // or median would drag behind near a knock (a one-sided window).
     Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
     Eigen::Matrix<double, 2, 4> rhs = Eigen::Matrix<double, 2, 4>::Zero();
-    for (int j = 0; j < n; ++j) {
+    // Frames are in time order: only the half window's are visited.
+    int first = i, last = i;
+    while (first > 0 &&
+           t[frames[i]] - t[frames[first - 1]] <= options.half_window_s) {
+      --first;
+    }
+    while (last + 1 < n &&
+           t[frames[last + 1]] - t[frames[i]] <= options.half_window_s) {
+      ++last;
+    }
+    for (int j = first; j <= last; ++j) {
       const double dt = t[frames[j]] - t[frames[i]];
-      if (segment[j] != segment[i] || transition[j] ||
-          std::abs(dt) > options.half_window_s) {
-        continue;
-      }
+      if (segment[j] != segment[i] || transition[j]) continue;
       const Eigen::Vector2d a(1.0, dt);
       normal += a * a.transpose();
       rhs += a * Parameters(raw[frames[j]]).transpose();

@@ -101,6 +101,14 @@ StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
     cv::Scalar mean, stddev;
     cv::meanStdDev(t.values, mean, stddev);
     t.contrast = stddev[0];
+    t.normal_matrix = Eigen::Matrix4d::Zero();
+    for (int v = 0; v < side; ++v) {
+      for (int u = 0; u < side; ++u) {
+        const Eigen::Vector4d j = Jacobian(t, u, v);
+        t.normal_matrix += j * j.transpose();
+      }
+    }
+    if (t.normal != Eigen::Vector2d::Zero()) t.normal_matrix(1, 1) = 1.0;
     templates_.push_back(std::move(t));
   }
 }
@@ -109,6 +117,14 @@ std::vector<Eigen::Vector2d> StaticPatches::reference_px() const {
   std::vector<Eigen::Vector2d> centres;
   for (const Template& t : templates_) centres.push_back(t.centre);
   return centres;
+}
+
+Eigen::Vector4d StaticPatches::Jacobian(const Template& t, int u, int v) {
+  const double tx = t.dx.at<float>(v, u), ty = t.dy.at<float>(v, u);
+  const double value = t.values.at<float>(v, u);
+  if (t.normal == Eigen::Vector2d::Zero()) return {tx, ty, -value, -1.0};
+  // An edge: the slope across it only.
+  return {tx * t.normal.x() + ty * t.normal.y(), 0.0, -value, -1.0};
 }
 
 bool StaticPatches::Align(const cv::Mat& luma, const Template& t,
@@ -128,33 +144,28 @@ bool StaticPatches::Align(const cv::Mat& luma, const Template& t,
       return false;
     }
     const double a = x0 - ix, b = y0 - iy;
-    Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
     Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
     double squares = 0.0;
     for (int v = 0; v < side; ++v) {
       const uint8_t* r0 = luma.ptr<uint8_t>(iy + v) + ix;
       const uint8_t* r1 = luma.ptr<uint8_t>(iy + v + 1) + ix;
       const float* tv = t.values.ptr<float>(v);
-      const float* tx = t.dx.ptr<float>(v);
-      const float* ty = t.dy.ptr<float>(v);
       for (int u = 0; u < side; ++u) {
         const double sample = (1 - b) * ((1 - a) * r0[u] + a * r0[u + 1]) +
                               b * ((1 - a) * r1[u] + a * r1[u + 1]);
         const double residual = sample - gain * tv[u] - offset;
-        // d residual / d (shift, gain, offset); the image's slope taken as
-        // the template's (scaled by the gain) near the solution.
-        Eigen::Vector4d j(gain * tx[u], gain * ty[u], -tv[u], -1.0);
-        if (edge) {
-          j[0] = gain * (tx[u] * t.normal.x() + ty[u] * t.normal.y());
-          j[1] = 0.0;
-        }
-        normal += j * j.transpose();
-        rhs -= j * residual;
+        rhs -= Jacobian(t, u, v) * residual;
         squares += residual * residual;
       }
     }
     rms = std::sqrt(squares / (side * side));
-    if (edge) normal(1, 1) = 1.0;  // the unused direction
+    // d residual / d (shift, gain, offset) is the unit-gain Jacobian with
+    // its shift part scaled by the gain (the image's slope taken as the
+    // template's near the solution).
+    const Eigen::Vector4d scale(gain, edge ? 1.0 : gain, 1.0, 1.0);
+    rhs = rhs.cwiseProduct(scale);
+    const Eigen::Matrix4d normal =
+        scale.asDiagonal() * t.normal_matrix * scale.asDiagonal();
     const Eigen::Vector4d step = normal.ldlt().solve(rhs);
     if (!step.allFinite()) return false;
     const Eigen::Vector2d shift =

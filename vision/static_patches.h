@@ -76,9 +76,15 @@ class StaticPatches {
     Eigen::Vector2d normal = Eigen::Vector2d::Zero();  // edge patches
     cv::Mat values, dx, dy;                            // CV_32FC1, (2 h + 1)^2
     double contrast = 0.0;                             // RMS about the mean
+    // The alignment's normal matrix at unit gain, the sum of j j^T over the
+    // patch (Jacobian): a change of gain only scales it, so it is summed
+    // once.
+    Eigen::Matrix4d normal_matrix = Eigen::Matrix4d::Identity();
   };
   bool Align(const cv::Mat& luma, const Template& t,
              Eigen::Vector2d* centre) const;
+  // The unit-gain Jacobian of the residual at template pixel (u, v).
+  static Eigen::Vector4d Jacobian(const Template& t, int u, int v);
 
   StaticPatchOptions options_;
   std::vector<Template> templates_;

@@ -52,10 +52,13 @@ bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
   const double d = options.edge_half_width_px, step = 0.25;
   const double length = (b - a).norm();
   std::vector<cv::Point2f> points;
+  // One buffer for every profile: this runs for every frame's tag.
+  std::vector<double> profile;
+  profile.reserve(static_cast<size_t>(2 * d / step) + 2);
   int sampled = 0;
   for (double t = 0.2 * length; t <= 0.8 * length; t += 0.5, ++sampled) {
     const Eigen::Vector2d p = a + t * along;
-    std::vector<double> profile;
+    profile.clear();
     for (double s = -d; s <= d + 1e-9; s += step) {
       const Eigen::Vector2d q = p + s * normal;
       profile.push_back(Sample(gray, q.x(), q.y()));
