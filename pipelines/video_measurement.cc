@@ -499,9 +499,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   const PlaneMapping mapping =
       PlanMapping(plan, video_path, intrinsics, options.tag_frames,
                   &m.scale_source, &tag_corners);
-  m.registers_frames = options.register_frames;
+
   // Each measurer registers with its own copy, to one shared reference.
-  const std::optional<RegistrationReference> reference =
+  std::optional<RegistrationReference> reference =
       options.register_frames ? std::optional(MakeRegistrationReference(
                                     plan, video_path, mapping, tag_corners))
                               : std::nullopt;
@@ -511,6 +511,17 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
         intrinsics, reference->luma, reference->static_mask, reference->tag,
         options.registration);
   };
+  // Without a tag, only static structure can register the frames; a plan
+  // with neither (a scale, a plain table) keeps the still camera it always
+  // assumed, and says so.
+  std::string why_still = "off: the camera is taken to be still";
+  if (reference && !reference->tag &&
+      registration()->patch_count() < options.registration.min_patches) {
+    reference.reset();
+    why_still =
+        "off: no tag in the plan and too little static structure in view; "
+        "the camera is taken to be still";
+  }
   m.mm_per_px = mapping.MmPerPixelAt(
       Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
   m.mapping = mapping;
@@ -549,6 +560,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
       HeadTracker(mapping, PlanHeadMarkers(plan), options.tracker),
       registration(), snapshot_times, m.every_frame ? 0 : 1, &frames_done);
   measurers.front().RequireCompleteFirstFrame();
+  m.registers_frames = reference.has_value();
   m.registration =
       reference
           ? fmt::format(
