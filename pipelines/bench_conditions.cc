@@ -36,11 +36,6 @@ std::optional<std::string> BenchConditionsOptions::Check() const {
   return std::nullopt;
 }
 
-bool BenchConditionsOptions::CameraMoves() const {
-  return drift_px != Eigen::Vector2d::Zero() || tremor_px > 0.0 ||
-         !bumps.empty();
-}
-
 namespace {
 
 // A damped step from 0 to 1 that starts at 0 and settles within ~0.1 s (a

@@ -46,7 +46,6 @@ struct BenchConditionsOptions {
   uint64_t seed = 1;
 
   std::optional<std::string> Check() const;
-  bool CameraMoves() const;
 };
 
 // The conditions of one frame.

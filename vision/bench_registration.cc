@@ -267,7 +267,6 @@ FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
   }
   out.residual_px = rms;
   out.motion = motion;
-  if (corners) out.corners = *corners;
   if (!out.tag_used && out.patches_used < options_.min_patches) {
     out.why_not = fmt::format(
         "the tag and the static patches do not agree on one camera motion "

@@ -65,7 +65,6 @@ struct FrameRegistration {
   int patches_used = 0;
   // 2: pan and tilt; 3: and roll; 4: and scale.
   int parameters = 2;
-  std::array<Eigen::Vector2d, 4> corners;  // the tag's, when tag_used
 };
 
 // Registers every frame to the fixed bench: the camera's motion since the
