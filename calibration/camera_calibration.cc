@@ -33,13 +33,20 @@ std::vector<cv::Point2f> FindBoardCorners(const cv::Mat& gray,
                                           const BoardOptions& options) {
   std::vector<cv::Point2f> corners;
   const cv::Size pattern(options.corners_x, options.corners_y);
+  // OpenCV finds the board in 8 bits; deeper luma (10 and 12-bit video,
+  // filling 16 bits) is refined at its full precision.
+  cv::Mat gray8 = gray, fine = gray;
+  if (gray.depth() == CV_16U) {
+    gray.convertTo(gray8, CV_8U, 1.0 / 256.0);
+    gray.convertTo(fine, CV_32F, 1.0 / 256.0);
+  }
   if (!cv::findChessboardCorners(
-          gray, pattern, corners,
+          gray8, pattern, corners,
           cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)) {
     return {};
   }
   cv::cornerSubPix(
-      gray, corners, cv::Size(5, 5), cv::Size(-1, -1),
+      fine, corners, cv::Size(5, 5), cv::Size(-1, -1),
       cv::TermCriteria(cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 100,
                        1e-4));
   return corners;

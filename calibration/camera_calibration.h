@@ -30,8 +30,8 @@ struct BoardOptions {
   std::optional<std::string> Check() const;
 };
 
-// The board's inner corners in one grey image, refined to sub-pixel
-// (cornerSubPix); empty when the whole board is not found.
+// The board's inner corners in one grey image (8 or 16-bit), refined to
+// sub-pixel (cornerSubPix); empty when the whole board is not found.
 std::vector<cv::Point2f> FindBoardCorners(const cv::Mat& gray,
                                           const BoardOptions& options);
 

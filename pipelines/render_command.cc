@@ -5,12 +5,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <future>
+#include <opencv2/core.hpp>
 
 #include "pipelines/model_selection.h"
 #include "pipelines/render_timeline.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
 #include "util/progress.h"
+#include "vision/video_reader.h"
 #include "vision/video_writer.h"
 
 namespace softbench {
@@ -35,6 +37,25 @@ std::vector<Eigen::VectorXd> ExposureSamples(const HeadTimeline& timeline,
     return {timeline.DisplacementAt(time_s)};
   }
   return samples;
+}
+
+// iPhones' timestamp clock [ticks per second].
+constexpr int kPhoneClockHz = 600;
+
+// Each frame's time: k / fps, or with a variable frame rate moved by up to
+// `jitter` / 2 frame intervals either way (seeded), on the phone's clock.
+std::vector<double> FrameTimes(int64_t frames, double fps, double jitter,
+                               uint64_t seed) {
+  std::vector<double> times(frames);
+  cv::RNG rng(seed * 0x2545F4914F6CDD1DULL + 7);
+  for (int64_t k = 0; k < frames; ++k) {
+    times[k] = k / fps;
+    if (jitter > 0.0 && k > 0) {
+      const double t = (k + jitter * rng.uniform(-0.5, 0.5)) / fps;
+      times[k] = std::round(t * kPhoneClockHz) / kPhoneClockHz;
+    }
+  }
+  return times;
 }
 
 }  // namespace
@@ -137,6 +158,27 @@ void AddRenderCommand(CLI::App* app, RenderCommandOptions* options) {
   c->add_option("--drift-period-s", options->conditions.drift_period_s,
                 "period of the exposure wander [s] (white balance: 1.37x)")
       ->capture_default_str();
+  c->add_option("--bit-depth", options->bit_depth,
+                "bits per sample: 8, 10 or 12 (12 with hevc)")
+      ->capture_default_str();
+  c->add_option("--chroma", options->chroma,
+                "chroma subsampling: 4:2:0 (phones), 4:2:2 or 4:4:4")
+      ->capture_default_str();
+  c->add_flag("--full-range", options->full_range,
+              "full-range YUV (0-255) instead of limited (16-235)");
+  c->add_option("--hdr", options->hdr,
+                "HDR as a phone records it: hlg (iPhone's default) or pq, "
+                "with BT.2020 colours, SDR white at BT.2408's reference "
+                "white; needs --bit-depth 10 or 12");
+  c->add_option("--rotation", options->rotation_deg,
+                "display rotation to store, clockwise degrees (90: a phone "
+                "held upright); --resolution is the upright picture")
+      ->capture_default_str();
+  c->add_option("--vfr-jitter", options->vfr_jitter,
+                "variable frame rate: each frame's time moves by up to this "
+                "fraction of the frame interval (0-0.9), on a 600 Hz clock "
+                "as iPhones write")
+      ->capture_default_str();
 }
 
 int RunRender(RenderCommandOptions options, std::ostream& out) {
@@ -194,8 +236,32 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   writer_options.preset = options.preset;
   writer_options.fps = options.fps;
   writer_options.keyframe_interval_s = options.keyframe_interval_s;
+  writer_options.bit_depth = options.bit_depth;
+  writer_options.chroma = options.chroma;
+  writer_options.full_range = options.full_range;
+  writer_options.rotation_deg = options.rotation_deg;
+  if (!options.hdr.empty()) {
+    if (options.hdr != "hlg" && options.hdr != "pq") {
+      throw InputError("--hdr: '" + options.hdr + "' is not hlg or pq");
+    }
+    if (options.bit_depth < 10) {
+      throw InputError("--hdr: HDR needs --bit-depth 10 or 12");
+    }
+    writer_options.encoding = {
+        options.hdr == "hlg" ? Transfer::kHlg : Transfer::kPq,
+        Primaries::kBt2020};
+  }
+  if (options.rotation_deg != 0 && options.rotation_deg != 90 &&
+      options.rotation_deg != 180 && options.rotation_deg != 270) {
+    throw InputError("--rotation: must be 0, 90, 180 or 270");
+  }
+  if (!(options.vfr_jitter >= 0.0 && options.vfr_jitter <= 0.9)) {
+    throw InputError("--vfr-jitter: must be between 0 and 0.9");
+  }
+  if (options.vfr_jitter > 0.0) writer_options.time_base_hz = kPhoneClockHz;
   if (auto problem = writer_options.Check())
     throw InputError("render: " + *problem);
+  render.sixteen_bit = options.bit_depth > 8;
   render.exposure_s = std::min(render.exposure_s, 1.0 / options.fps);
 
   AssignTimes(&plan);
@@ -210,7 +276,14 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   // no half-written video.
   const fs::path video(options.output_path);
   const fs::path temporary =
-      video.parent_path() / ("." + video.filename().string() + ".partial.mp4");
+      video.parent_path() / ("." + video.stem().string() + ".partial" +
+                             (video.extension() == ".mov" ? ".mov" : ".mp4"));
+  const bool quarter_turn =
+      options.rotation_deg == 90 || options.rotation_deg == 270;
+  const cv::Size stored =
+      quarter_turn ? cv::Size(size.height, size.width) : size;
+  const std::vector<double> times =
+      FrameTimes(frames, options.fps, options.vfr_jitter, render.seed);
   std::string truth = "frame,time_s";
   for (int h = 1; h <= plan.mechanism.NumHeads(); ++h) {
     truth += fmt::format(",y{0}_mm,z{0}_mm,u{0}_px,v{0}_px", h);
@@ -219,12 +292,12 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   // principal point and the roll (clockwise on screen); the brightness.
   truth += ",camera_dx_px,camera_dy_px,camera_roll_rad,brightness\n";
   try {
-    VideoWriter writer(temporary.string(), size.width, size.height,
+    VideoWriter writer(temporary.string(), stored.width, stored.height,
                        writer_options);
     ProgressBar progress("render", frames, !options.quiet);
     std::future<void> encoding;
     for (int64_t k = 0; k < frames; ++k) {
-      const double t = k / options.fps;
+      const double t = times[k];
       const FrameConditions frame_conditions = bench.At(t);
       const std::vector<Eigen::VectorXd> samples =
           ExposureSamples(timeline, t, render.exposure_s, render.motion_blur);
@@ -250,11 +323,20 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
                            shift.y(), frame_conditions.motion.roll_rad(),
                            frame_conditions.brightness);
       cv::Mat frame = renderer.Render(samples, k, frame_conditions);
+      if (options.rotation_deg != 0) {
+        // Stored as the sensor saw it; players turn it upright by the
+        // rotation.
+        cv::rotate(frame, frame,
+                   options.rotation_deg == 90 ? cv::ROTATE_90_COUNTERCLOCKWISE
+                   : options.rotation_deg == 180 ? cv::ROTATE_180
+                                                 : cv::ROTATE_90_CLOCKWISE);
+      }
       if (encoding.valid())
         encoding.get();  // one frame encodes while the next renders
-      encoding =
-          std::async(std::launch::async,
-                     [&writer, f = std::move(frame)] { writer.Write(f); });
+      const double stamp = options.vfr_jitter > 0.0 ? t : -1.0;
+      encoding = std::async(
+          std::launch::async,
+          [&writer, f = std::move(frame), stamp] { writer.Write(f, stamp); });
       progress.Update(k + 1);
     }
     if (encoding.valid()) encoding.get();
@@ -276,11 +358,13 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
       plan_out,
       TestPlanToYaml(plan, plan_dir.empty() ? "." : plan_dir.string()));
   fs::rename(temporary, video);
+  VideoReaderOptions probe;
+  probe.want_luma = probe.want_bgr = false;
   out << fmt::format(
-      "rendered {} frames ({:.1f} s at {} fps, {}x{}, {}) to {}; truth in {}; "
-      "plan in {}\n",
-      frames, frames / options.fps, options.fps, size.width, size.height,
-      options.codec, options.output_path, options.truth_path, plan_out);
+      "rendered {} frames ({:.1f} s) to {}: {}; truth in {}; plan in {}\n",
+      frames, frames / options.fps, options.output_path,
+      VideoReader(options.output_path, probe).info().Description(),
+      options.truth_path, plan_out);
   return 0;
 }
 

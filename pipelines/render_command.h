@@ -32,6 +32,15 @@ struct RenderCommandOptions {
   std::string distortion;       // "k1,k2,p1,p2,k3"
   bool no_motion_blur = false;
   bool no_ring = false;
+  // What a phone's video is like: bits, chroma, range, HDR transfer, the
+  // rotation a portrait video stores, and the jitter of a variable frame
+  // rate (a fraction of the frame interval).
+  int bit_depth = 8;
+  std::string chroma = "4:2:0";
+  bool full_range = false;
+  std::string hdr;  // "", "hlg" or "pq"
+  int rotation_deg = 0;
+  double vfr_jitter = 0.0;
   // Camera motion and exposure drift (bench_conditions.h).
   std::string camera_drift_px;            // "dx,dy" over the whole video
   std::vector<std::string> camera_bumps;  // "t:dx,dy[,roll_deg]" each

@@ -542,7 +542,7 @@ cv::Mat SceneRenderer::Render(
   }
   const cv::Vec3f exposure =
       conditions.channel_gain * static_cast<float>(conditions.brightness);
-  cv::Mat out(linear.size(), CV_8UC3);
+  cv::Mat out(linear.size(), options_.sixteen_bit ? CV_16UC3 : CV_8UC3);
   // Fixed stripes, each with its own seeded generator: the same frame for any
   // number of threads.
   constexpr int kStripes = 32;
@@ -558,7 +558,8 @@ cv::Mat SceneRenderer::Render(
         const auto* in = linear.ptr<cv::Vec3f>(v);
         const auto* g = gain_.ptr<float>(v);
         const auto* n = noise.ptr<cv::Vec3f>(v - begin);
-        auto* o = out.ptr<cv::Vec3b>(v);
+        auto* o8 = out.ptr<cv::Vec3b>(v);
+        auto* o16 = out.ptr<cv::Vec3w>(v);
         for (int u = 0; u < linear.cols; ++u) {
           for (int c = 0; c < 3; ++c) {
             const float signal = in[u][c] * g[u] * exposure[c];
@@ -567,7 +568,12 @@ cv::Mat SceneRenderer::Render(
                                              options_.noise_sigma_dn) +
                           static_cast<float>(options_.shot_noise_dn) *
                               std::max(signal, 0.0f));
-            o[u][c] = cv::saturate_cast<uint8_t>(signal + sigma * n[u][c]);
+            const float level = signal + sigma * n[u][c];
+            if (options_.sixteen_bit) {
+              o16[u][c] = cv::saturate_cast<uint16_t>(level * 257.0f);
+            } else {
+              o8[u][c] = cv::saturate_cast<uint8_t>(level);
+            }
           }
         }
       }

@@ -38,6 +38,9 @@ struct RenderOptions {
   double exposure_s = 1.0 / 60.0;
   bool motion_blur = true;
   uint64_t seed = 1;
+  // Frames as CV_16UC3 (65535 = white) instead of CV_8UC3, for 10 and
+  // 12-bit video: the sensor's levels are kept between 8-bit steps.
+  bool sixteen_bit = false;
 
   std::optional<std::string> Check() const;
 };
@@ -73,7 +76,8 @@ class SceneRenderer {
   // camera after `conditions.motion` (the linear frame resampled exactly
   // along the moved camera's rays, bilinearly in full precision), then
   // exposure, white balance, lighting, vignetting and noise (seeded by the
-  // options' seed and `frame_index`).
+  // options' seed and `frame_index`). CV_8UC3, or CV_16UC3 with
+  // RenderOptions::sixteen_bit.
   cv::Mat Render(const std::vector<Eigen::VectorXd>& displacement_samples,
                  int64_t frame_index,
                  const FrameConditions& conditions = {}) const;

@@ -179,13 +179,22 @@ cv::Mat StaticMask(const TestPlan& plan, const PlaneMapping& mapping,
   for (const Head& h : plan.mechanism.heads) add(h.rest_mm);
   std::vector<cv::Point> hull;
   cv::convexHull(outline, hull);
+  // Grown by 14 mm: a convex polygon grown by a disc is the hull of discs
+  // at its corners (a dilation of the image with a 60 px disc cost more than
+  // measuring 50 frames).
+  const Eigen::Vector2d centre(size.width / 2.0, size.height / 2.0);
+  const double grow = 14.0 / mapping.MmPerPixelAt(centre);
+  std::vector<cv::Point> grown;
+  for (const cv::Point& corner : hull) {
+    for (int k = 0; k < 64; ++k) {
+      const double angle = 2.0 * M_PI * k / 64;
+      grown.emplace_back(cvRound(corner.x + grow * std::cos(angle)),
+                         cvRound(corner.y + grow * std::sin(angle)));
+    }
+  }
+  cv::convexHull(grown, hull);
   cv::Mat moving(size, CV_8UC1, cv::Scalar(0));
   cv::fillConvexPoly(moving, hull, cv::Scalar(255));
-  const Eigen::Vector2d centre(size.width / 2.0, size.height / 2.0);
-  const int grow = cvRound(14.0 / mapping.MmPerPixelAt(centre));
-  cv::dilate(moving, moving,
-             cv::getStructuringElement(cv::MORPH_ELLIPSE,
-                                       cv::Size(2 * grow + 1, 2 * grow + 1)));
   return 255 - moving;
 }
 
@@ -213,6 +222,11 @@ RegistrationReference MakeRegistrationReference(
 
 // Measures spans of a video with one reader and one tracker, keeping the
 // frames, the snapshots asked for and the counts.
+// A time a snapshot was asked for, and the time of its nearest frame.
+struct SnapshotTime {
+  double requested_s, frame_s;
+};
+
 class SpanMeasurer {
  public:
   // `registration`, when given, registers every frame to the bench before
@@ -221,8 +235,8 @@ class SpanMeasurer {
                const PlaneMapping& mapping, double mm_per_px,
                HeadTracker tracker,
                std::unique_ptr<BenchRegistration> registration,
-               const std::vector<double>& snapshot_times, int decoder_threads,
-               std::atomic<int64_t>* frames_done)
+               const std::vector<SnapshotTime>& snapshot_times,
+               int decoder_threads, std::atomic<int64_t>* frames_done)
       : plan_(&plan),
         mapping_(mapping),
         registration_(std::move(registration)),
@@ -254,10 +268,12 @@ class SpanMeasurer {
     } else if (!reader_->Read(&frame)) {
       return;
     }
-    const double half_frame_s = 0.5 / reader_->info().fps;
-    auto next_snapshot =
-        std::lower_bound(snapshot_times_->begin(), snapshot_times_->end(),
-                         frame.time_s - half_frame_s);
+    // Snapshots are kept at their nearest frames' exact times.
+    constexpr double kSameFrameS = 1e-6;
+    auto next_snapshot = std::lower_bound(
+        snapshot_times_->begin(), snapshot_times_->end(),
+        frame.time_s - kSameFrameS,
+        [](const SnapshotTime& s, double t) { return s.frame_s < t; });
     do {
       if (frame.time_s >= span.end_s) break;
       const VideoFrameSource source(reader_.get(), &frame);
@@ -285,11 +301,11 @@ class SpanMeasurer {
       }
       full_frame_frames_ += full;
       for (; next_snapshot != snapshot_times_->end() &&
-             frame.time_s >= *next_snapshot - half_frame_s;
+             frame.time_s >= next_snapshot->frame_s - kSameFrameS;
            ++next_snapshot) {
-        if (frame.time_s <= *next_snapshot + half_frame_s) {
+        if (frame.time_s <= next_snapshot->frame_s + kSameFrameS) {
           snapshots_.push_back(SnapshotHeads(source, sample, *plan_, mm_per_px_,
-                                             *next_snapshot));
+                                             next_snapshot->requested_s));
         }
       }
       frames_.push_back(std::move(sample));
@@ -348,7 +364,7 @@ class SpanMeasurer {
   double mm_per_px_;
   std::unique_ptr<VideoReader> reader_;
   HeadTracker tracker_;
-  const std::vector<double>* snapshot_times_;
+  const std::vector<SnapshotTime>* snapshot_times_;
   std::atomic<int64_t>* frames_done_;
   std::vector<FrameSample> frames_;
   std::vector<FrameSnapshot> snapshots_;
@@ -362,7 +378,7 @@ class SpanMeasurer {
 // (SmoothCameraPath: knocks kept, a codec's slow wobble of the static edges
 // averaged) and measures its heads again through it.
 void FollowCameraPath(const PlaneMapping& mapping, const HeadTracker& tracker,
-                      const CameraPathOptions& options, double fps,
+                      const CameraPathOptions& options, double frame_interval_s,
                       std::vector<FrameSample>* frames) {
   std::vector<double> times;
   std::vector<CameraMotion> raw;
@@ -373,7 +389,7 @@ void FollowCameraPath(const PlaneMapping& mapping, const HeadTracker& tracker,
     valid.push_back(f.registered);
   }
   const std::vector<CameraMotion> path = SmoothCameraPath(
-      mapping.intrinsics(), times, raw, valid, 1.5 / fps, options);
+      mapping.intrinsics(), times, raw, valid, 2.5 * frame_interval_s, options);
   for (size_t i = 0; i < frames->size(); ++i) {
     FrameSample& f = (*frames)[i];
     if (!f.registered) continue;
@@ -494,6 +510,8 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   VideoMeasurement m;
   m.video_path = video_path;
   m.fps = info.fps;
+  m.frame_interval_s = info.frame_interval_s;
+  m.video_format = info.Description();
   const CalibrationSpec& c = plan.calibration;
   std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
   const PlaneMapping mapping =
@@ -525,9 +543,18 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   m.mm_per_px = mapping.MmPerPixelAt(
       Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
   m.mapping = mapping;
-  const double half_frame_s = 0.5 / info.fps;
-  std::vector<double> snapshot_times = options.snapshot_times_s;
-  std::sort(snapshot_times.begin(), snapshot_times.end());
+  const double half_frame_s = 0.5 * info.frame_interval_s;
+  std::vector<SnapshotTime> snapshot_times;
+  for (const double t : options.snapshot_times_s) {
+    snapshot_times.push_back(
+        {t, info.frame_times_s.empty()
+                ? t
+                : info.frame_times_s[info.NearestFrame(t)]});
+  }
+  std::sort(snapshot_times.begin(), snapshot_times.end(),
+            [](const SnapshotTime& a, const SnapshotTime& b) {
+              return a.frame_s < b.frame_s;
+            });
 
   // Every frame, or the frames of the spans in time order (overlapping ones
   // merged, those beyond the video dropped).
@@ -542,8 +569,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   if (!m.every_frame) {
     frames_wanted = 0;
     for (const TimeSpan& span : spans) {
-      frames_wanted += static_cast<int64_t>(std::ceil(
-          (std::min(span.end_s, info.duration_s) - span.start_s) * info.fps));
+      frames_wanted += static_cast<int64_t>(
+          std::ceil((std::min(span.end_s, info.duration_s) - span.start_s) /
+                    info.frame_interval_s));
     }
   }
   ProgressBar progress("measure", frames_wanted, options.progress);
@@ -599,7 +627,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
   for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
   if (reference) {
     FollowCameraPath(mapping, measurers.front().tracker(), options.camera_path,
-                     info.fps, &m.frames);
+                     info.frame_interval_s, &m.frames);
   }
   if (m.frames.empty())
     throw InputError(video_path + ": the video has no frames");
@@ -679,14 +707,21 @@ std::string UnregisteredSpans(const std::vector<FrameSample>& frames) {
 
 const FrameSample* FindFrame(const VideoMeasurement& measurement,
                              double time_s) {
-  // Frames are 1 / fps apart: at most one is within half a frame.
   const std::vector<FrameSample>& frames = measurement.frames;
-  const double half_frame_s = 0.5 / measurement.fps + 1e-9;
   const auto it = std::lower_bound(
-      frames.begin(), frames.end(), time_s - half_frame_s,
+      frames.begin(), frames.end(), time_s,
       [](const FrameSample& f, double t) { return f.time_s < t; });
-  return it != frames.end() && it->time_s <= time_s + half_frame_s ? &*it
-                                                                   : nullptr;
+  const FrameSample* nearest = nullptr;
+  if (it != frames.end()) nearest = &*it;
+  if (it != frames.begin() &&
+      (nearest == nullptr ||
+       time_s - std::prev(it)->time_s < nearest->time_s - time_s)) {
+    nearest = &*std::prev(it);
+  }
+  return nearest != nullptr && std::abs(nearest->time_s - time_s) <=
+                                   measurement.frame_interval_s + 1e-9
+             ? nearest
+             : nullptr;
 }
 
 FrameSnapshot SnapshotHeads(const FrameSource& frame, const FrameSample& sample,

@@ -97,7 +97,11 @@ struct VideoMeasurement {
   double mm_per_px = 0.0;    // at the image centre, dot plane
   std::vector<Eigen::Vector2d> rest_mm;  // per head, plane coordinates
   std::vector<FrameSample> frames;       // in time order
-  double fps = 0.0;
+  double fps = 0.0;                      // average
+  // The median interval between frames (phones write variable frame rate).
+  double frame_interval_s = 0.0;
+  // The video's format and colours (VideoInfo::Description()).
+  std::string video_format;
   // Time of the video's last frame (its end, as far as windows go).
   double last_frame_s = 0.0;
   bool every_frame = true;  // false: only the requested spans were read
@@ -145,7 +149,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
 // five, then how many more).
 std::string UnregisteredSpans(const std::vector<FrameSample>& frames);
 
-// The measured frame on screen at `time_s` (within half a frame), or null.
+// The measured frame nearest `time_s`, or null when none is within one frame
+// interval (frames are found by time: under variable frame rate frame k is
+// not at k / fps).
 const FrameSample* FindFrame(const VideoMeasurement& measurement,
                              double time_s);
 

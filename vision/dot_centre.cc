@@ -7,6 +7,8 @@
 #include <cmath>
 #include <vector>
 
+#include "vision/luma.h"
+
 namespace softbench {
 
 std::optional<std::string> DotCentreOptions::Check() const {
@@ -50,18 +52,21 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
   inside.clear();
   const double outer_sq = outer * outer, window_sq = window * window;
   const double inside_sq = (window + 0.5) * (window + 0.5);
-  for (int y = y0; y <= y1; ++y) {
-    const uint8_t* row = luma.ptr<uint8_t>(y);
-    const double dy = y - c.y();
-    for (int x = x0; x <= x1; ++x) {
-      const double dx = x - c.x();
-      const double d2 = dx * dx + dy * dy;
-      if (d2 > outer_sq) continue;
-      const BoxPixel p{dx, dy, d2, 1.0 * row[x]};
-      if (d2 >= window_sq) ring.push_back(p);
-      if (d2 < inside_sq) inside.push_back(p);
+  WithLumaType(luma, [&](auto type) {
+    using T = decltype(type);
+    for (int y = y0; y <= y1; ++y) {
+      const T* row = luma.ptr<T>(y);
+      const double dy = y - c.y();
+      for (int x = x0; x <= x1; ++x) {
+        const double dx = x - c.x();
+        const double d2 = dx * dx + dy * dy;
+        if (d2 > outer_sq) continue;
+        const BoxPixel p{dx, dy, d2, kLevelsPerCode<T> * row[x]};
+        if (d2 >= window_sq) ring.push_back(p);
+        if (d2 < inside_sq) inside.push_back(p);
+      }
     }
-  }
+  });
   // Background plane L = a + b dx + c dy on the ring [window, outer], with
   // one pass rejecting outliers (a glint, a neighbouring edge).
   Eigen::Vector3d plane = Eigen::Vector3d::Zero();

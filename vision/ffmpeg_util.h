@@ -14,11 +14,12 @@ namespace softbench {
 // FFmpeg's text for an error code.
 std::string FfmpegError(int error);
 
-// Sets the YUV<->RGB coefficients and range of a swscale context from a
-// stream's colour metadata (BT.709 when unspecified, as for HD video), so the
-// reader and writer convert with the same matrix.
-void SetColorspace(SwsContext* sws, AVColorSpace colorspace,
-                   AVColorRange range);
+// Set the YUV -> RGB (reader) or RGB -> YUV (writer) coefficients and the
+// YUV side's range of a swscale context from a stream's colour metadata
+// (BT.601, BT.709, BT.2020; BT.709 when unspecified, as for HD video), so
+// the reader and writer convert with the same matrix.
+void SetYuvToRgb(SwsContext* sws, AVColorSpace colorspace, AVColorRange range);
+void SetRgbToYuv(SwsContext* sws, AVColorSpace colorspace, AVColorRange range);
 
 }  // namespace softbench
 

@@ -20,7 +20,7 @@ cv::Rect BoxAround(const std::vector<Eigen::Vector2d>& points, double margin_px,
 class FrameSource {
  public:
   virtual ~FrameSource() = default;
-  virtual const cv::Mat& luma() const = 0;  // CV_8UC1
+  virtual const cv::Mat& luma() const = 0;  // CV_8UC1 or CV_16UC1 (luma.h)
   // BGR (CV_8UC3) of `region` clipped to the frame; empty when outside.
   virtual cv::Mat BgrRegion(const cv::Rect& region) const = 0;
   // BGR of `region` clipped to the frame, resampled to `size` by averaging

@@ -7,6 +7,8 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "vision/luma.h"
+
 namespace softbench {
 
 std::optional<std::string> StaticPatchOptions::Check() const {
@@ -29,8 +31,7 @@ StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
     throw std::logic_error("StaticPatches: " + *problem);
   }
   const int h = options.half_size_px, side = 2 * h + 1;
-  cv::Mat image;
-  luma.convertTo(image, CV_32F);
+  const cv::Mat image = LumaAsFloat(luma);
   // The structure tensor summed over a patch, at every pixel.
   cv::Mat gx, gy, xx, yy, xy;
   cv::Sobel(image, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
@@ -146,18 +147,23 @@ bool StaticPatches::Align(const cv::Mat& luma, const Template& t,
     const double a = x0 - ix, b = y0 - iy;
     Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
     double squares = 0.0;
-    for (int v = 0; v < side; ++v) {
-      const uint8_t* r0 = luma.ptr<uint8_t>(iy + v) + ix;
-      const uint8_t* r1 = luma.ptr<uint8_t>(iy + v + 1) + ix;
-      const float* tv = t.values.ptr<float>(v);
-      for (int u = 0; u < side; ++u) {
-        const double sample = (1 - b) * ((1 - a) * r0[u] + a * r0[u + 1]) +
-                              b * ((1 - a) * r1[u] + a * r1[u + 1]);
-        const double residual = sample - gain * tv[u] - offset;
-        rhs -= Jacobian(t, u, v) * residual;
-        squares += residual * residual;
+    WithLumaType(luma, [&](auto type) {
+      using T = decltype(type);
+      const double k = kLevelsPerCode<T>;
+      for (int v = 0; v < side; ++v) {
+        const T* r0 = luma.ptr<T>(iy + v) + ix;
+        const T* r1 = luma.ptr<T>(iy + v + 1) + ix;
+        const float* tv = t.values.ptr<float>(v);
+        for (int u = 0; u < side; ++u) {
+          const double sample =
+              k * ((1 - b) * ((1 - a) * r0[u] + a * r0[u + 1]) +
+                   b * ((1 - a) * r1[u] + a * r1[u + 1]));
+          const double residual = sample - gain * tv[u] - offset;
+          rhs -= Jacobian(t, u, v) * residual;
+          squares += residual * residual;
+        }
       }
-    }
+    });
     rms = std::sqrt(squares / (side * side));
     // d residual / d (shift, gain, offset) is the unit-gain Jacobian with
     // its shift part scaled by the gain (the image's slope taken as the

@@ -56,8 +56,8 @@ struct PatchMatch {
 // start.
 class StaticPatches {
  public:
-  // `luma` CV_8UC1; `allowed` CV_8UC1 of the same size (non-zero where a
-  // patch may be taken) or empty for anywhere.
+  // `luma` 8 or 16-bit (luma.h); `allowed` CV_8UC1 of the same size (non-zero
+  // where a patch may be taken) or empty for anywhere.
   StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
                 const StaticPatchOptions& options = {});
 

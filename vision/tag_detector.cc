@@ -8,6 +8,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "vision/luma.h"
+
 namespace softbench {
 
 std::optional<std::string> TagDetectorOptions::Check() const {
@@ -17,18 +19,6 @@ std::optional<std::string> TagDetectorOptions::Check() const {
 }
 
 namespace {
-
-// Bilinear sample of an 8-bit image at (u, v), OpenCV convention.
-double Sample(const cv::Mat& gray, double u, double v) {
-  const int x = static_cast<int>(std::floor(u)),
-            y = static_cast<int>(std::floor(v));
-  if (x < 0 || y < 0 || x + 1 >= gray.cols || y + 1 >= gray.rows) return -1.0;
-  const double a = u - x, b = v - y;
-  const uint8_t* r0 = gray.ptr<uint8_t>(y) + x;
-  const uint8_t* r1 = gray.ptr<uint8_t>(y + 1) + x;
-  return (1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
-         b * ((1 - a) * r1[0] + a * r1[1]);
-}
 
 // The straight outer edge from corner a to corner b (black inside, white
 // outside), located along it at sub-pixel accuracy. At each point the edge's
@@ -42,9 +32,10 @@ struct EdgeFit {
   int sampled = 0, clean = 0;
   double rms_px = 0.0;
 };
-bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
-             const Eigen::Vector2d& b, const TagDetectorOptions& options,
-             cv::Vec4f* line, EdgeFit* fit = nullptr) {
+template <typename T>
+bool FitEdgeOf(const cv::Mat& gray, const Eigen::Vector2d& a,
+               const Eigen::Vector2d& b, const TagDetectorOptions& options,
+               cv::Vec4f* line, EdgeFit* fit = nullptr) {
   const Eigen::Vector2d along = (b - a).normalized();
   // Outward normal: libapriltag's corners run counter-clockwise as seen on
   // screen, so with y down outward is (-along_y, along_x).
@@ -61,7 +52,7 @@ bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
     profile.clear();
     for (double s = -d; s <= d + 1e-9; s += step) {
       const Eigen::Vector2d q = p + s * normal;
-      profile.push_back(Sample(gray, q.x(), q.y()));
+      profile.push_back(SampleLuma<T>(gray, q.x(), q.y()));
     }
     if (*std::min_element(profile.begin(), profile.end()) < 0) continue;
     const int end = static_cast<int>(profile.size()) - 1;
@@ -95,6 +86,15 @@ bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
             std::sqrt(sum / points.size())};
   }
   return true;
+}
+
+// FitEdgeOf for 8 or 16-bit luma (vision/luma.h).
+bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
+             const Eigen::Vector2d& b, const TagDetectorOptions& options,
+             cv::Vec4f* line, EdgeFit* fit = nullptr) {
+  return WithLumaType(gray, [&](auto type) {
+    return FitEdgeOf<decltype(type)>(gray, a, b, options, line, fit);
+  });
 }
 
 Eigen::Vector2d Intersect(const cv::Vec4f& l1, const cv::Vec4f& l2) {
@@ -150,9 +150,10 @@ TagDetector::TagDetector(const TagDetectorOptions& options)
 TagDetector::~TagDetector() = default;
 
 std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) const {
-  assert(gray.type() == CV_8UC1);
-  image_u8_t image{gray.cols, gray.rows, static_cast<int32_t>(gray.step),
-                   gray.data};
+  // libapriltag finds quads in 8 bits; the edges are fitted at full depth.
+  const cv::Mat gray8 = LumaAs8Bit(gray);
+  image_u8_t image{gray8.cols, gray8.rows, static_cast<int32_t>(gray8.step),
+                   gray8.data};
   zarray_t* detections = apriltag_detector_detect(apriltag_->detector, &image);
 
   std::vector<TagDetection> tags;

@@ -54,6 +54,7 @@ class TagDetector {
   TagDetector(const TagDetector&) = delete;
   TagDetector& operator=(const TagDetector&) = delete;
 
+  // `gray`: luma, 8 or 16 bits (vision/luma.h).
   std::vector<TagDetection> Detect(const cv::Mat& gray) const;
 
  private:

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -20,6 +21,62 @@ extern "C" {
 #include "vision/ffmpeg_util.h"
 
 namespace softbench {
+namespace {
+
+// Why softbench cannot read frames of this pixel format, if it cannot: luma
+// is read straight from a plane of 8 to 16-bit samples, which every phone,
+// camera and lab codec writes (planar or semi-planar YUV, or grey).
+std::optional<std::string> WhyUnsupported(const AVPixFmtDescriptor* desc) {
+  if (desc == nullptr) return "an unknown pixel format";
+  const std::string name = desc->name;
+  const uint64_t flags = desc->flags;
+  const AVComponentDescriptor& y = desc->comp[0];
+  if ((flags & AV_PIX_FMT_FLAG_HWACCEL) != 0) {
+    return "pixel format '" + name + "' is a hardware surface";
+  }
+  if ((flags & (AV_PIX_FMT_FLAG_RGB | AV_PIX_FMT_FLAG_PAL |
+                AV_PIX_FMT_FLAG_BAYER | AV_PIX_FMT_FLAG_FLOAT |
+                AV_PIX_FMT_FLAG_BITSTREAM | AV_PIX_FMT_FLAG_BE)) != 0 ||
+      y.plane != 0 || y.depth < 8 || y.depth > 16 ||
+      y.step != (y.depth + y.shift > 8 ? 2 : 1)) {
+    return "pixel format '" + name + "' is not YUV or grey with a luma plane";
+  }
+  return std::nullopt;
+}
+
+// The transfer and primaries a stream's metadata declares (SDR BT.709 when
+// unspecified, as players assume for HD video).
+ColorEncoding EncodingOf(const AVCodecParameters& p) {
+  ColorEncoding e;
+  if (p.color_trc == AVCOL_TRC_ARIB_STD_B67) e.transfer = Transfer::kHlg;
+  if (p.color_trc == AVCOL_TRC_SMPTE2084) e.transfer = Transfer::kPq;
+  if (p.color_primaries == AVCOL_PRI_BT2020) e.primaries = Primaries::kBt2020;
+  return e;
+}
+
+}  // namespace
+
+double VideoInfo::LastFrameS() const {
+  return frame_times_s.empty() ? 0.0 : frame_times_s.back();
+}
+
+int64_t VideoInfo::NearestFrame(double time_s) const {
+  if (frame_times_s.empty()) return 0;
+  const auto it =
+      std::lower_bound(frame_times_s.begin(), frame_times_s.end(), time_s);
+  if (it == frame_times_s.begin()) return 0;
+  if (it == frame_times_s.end()) return frame_times_s.size() - 1;
+  return (it - frame_times_s.begin()) - (time_s - *(it - 1) < *it - time_s);
+}
+
+std::string VideoInfo::Description() const {
+  return fmt::format(
+      "{} {}x{} {} ({}-bit {}, {} range, {}), {:.2f} fps{}{}", codec, width_px,
+      height_px, pixel_format, bit_depth, chroma,
+      full_range ? "full" : "limited", encoding.Name(), fps,
+      variable_frame_rate ? " variable" : "",
+      rotation_deg != 0 ? fmt::format(", rotated {}°", rotation_deg) : "");
+}
 
 struct VideoReader::State {
   std::string path;
@@ -35,6 +92,15 @@ struct VideoReader::State {
   int stream = -1;
   AVRational time_base{1, 1};
   int64_t start_pts = 0;
+  // Every frame's timestamp in presentation order (empty when the
+  // container has none): frames are numbered by their place in it.
+  std::vector<int64_t> frame_pts;
+  const AVPixFmtDescriptor* desc = nullptr;
+  // Luma of deeper video: samples shifted left by this fill 16 bits.
+  int luma_shift = 0;
+  cv::Mat luma_upright;  // reused: rotated or shifted luma
+  // Colour of anything but SDR BT.709 goes through SDR (color_transfer.h).
+  std::optional<SdrConverter> to_sdr;
   int64_t frames_returned = 0;   // since open or the last seek
   int64_t last_good_index = -1;  // for truncation messages
   double last_good_time = 0.0;
@@ -124,9 +190,122 @@ struct VideoReader::State {
     last_good_pts = frame->best_effort_timestamp != AV_NOPTS_VALUE
                         ? frame->best_effort_timestamp
                         : frame->pts;
-    last_good_index = std::llround(last_good_time * info.fps);
+    last_good_index = IndexOf(last_good_pts, last_good_time);
+    CheckFormat();
     ++frames_returned;
     return true;
+  }
+
+  int64_t IndexOf(int64_t pts, double time_s) const {
+    const auto it = std::lower_bound(frame_pts.begin(), frame_pts.end(), pts);
+    if (it != frame_pts.end() && *it == pts) return it - frame_pts.begin();
+    return std::llround(time_s * info.fps);  // no timestamps to go by
+  }
+
+  // A stream may change format mid-way; what was checked at open must hold.
+  void CheckFormat() const {
+    if (frame->format != static_cast<int>(av_pix_fmt_desc_get_id(desc))) {
+      const AVPixFmtDescriptor* now =
+          av_pix_fmt_desc_get(static_cast<AVPixelFormat>(frame->format));
+      Fail(fmt::format(
+          "the pixel format changes from {} to {} at t = {:.3f} s; re-encode "
+          "the video with one format (ffmpeg -pix_fmt {})",
+          desc->name, now != nullptr ? now->name : "unknown", last_good_time,
+          desc->name));
+    }
+  }
+
+  // The full-precision luma of the decoded frame, upright (see
+  // VideoFrame::luma): a view of the plane for unrotated 8-bit and 16-bit
+  // video, else turned (OpenCV's tiled transpose) and shifted to 16 bits.
+  cv::Mat Luma() {
+    const int w = frame->width, h = frame->height;
+    const bool deep = desc->comp[0].step == 2;
+    const cv::Mat plane(h, w, deep ? CV_16UC1 : CV_8UC1, frame->data[0],
+                        frame->linesize[0]);
+    if (info.rotation_deg == 0 && luma_shift == 0) return plane;
+    if (info.rotation_deg == 0) {
+      luma_upright.create(h, w, CV_16UC1);
+    } else {
+      Rotate(plane, &luma_upright);
+    }
+    if (luma_shift > 0) {
+      // A shift, not convertTo's scaling through float: every frame of
+      // 10-bit video comes through here.
+      const cv::Mat& in = info.rotation_deg == 0 ? plane : luma_upright;
+      for (int v = 0; v < luma_upright.rows; ++v) {
+        const auto* src = in.ptr<uint16_t>(v);
+        auto* dst = luma_upright.ptr<uint16_t>(v);
+        for (int u = 0; u < luma_upright.cols; ++u) {
+          dst[u] = static_cast<uint16_t>(src[u] << luma_shift);
+        }
+      }
+    }
+    return luma_upright;
+  }
+
+  // Back to the first frame, as if just opened.
+  void Rewind() {
+    av_seek_frame(format, stream, start_pts, AVSEEK_FLAG_BACKWARD);
+    avcodec_flush_buffers(codec);
+    flushing = finished = false;
+    frames_returned = 0;
+    last_good_index = -1;
+    last_good_time = 0.0;
+    last_good_pts = AV_NOPTS_VALUE;
+  }
+
+  // Every frame's timestamp, from the packets (no decoding). Stops quietly
+  // at damaged data: reading reports it where the frames run out.
+  void ScanFrameTimes() {
+    for (;;) {
+      if (av_read_frame(format, packet) < 0) break;
+      if (packet->stream_index == stream &&
+          (packet->flags & AV_PKT_FLAG_DISCARD) == 0) {
+        if (packet->pts == AV_NOPTS_VALUE) {
+          frame_pts.clear();  // no timestamps: frames are k / fps
+          av_packet_unref(packet);
+          break;
+        }
+        frame_pts.push_back(packet->pts);
+      }
+      av_packet_unref(packet);
+    }
+    std::sort(frame_pts.begin(), frame_pts.end());
+    frame_pts.erase(std::unique(frame_pts.begin(), frame_pts.end()),
+                    frame_pts.end());
+    for (const int64_t pts : frame_pts) {
+      info.frame_times_s.push_back((pts - start_pts) * av_q2d(time_base));
+    }
+    Rewind();
+  }
+
+  // The level HDR footage shows as SDR white: BT.2408's reference white, or
+  // the brightest 1 % of the first frame's luma when that is clearly (1.5
+  // times) brighter, so footage graded with its white at the top of the
+  // range is not clipped. One value for the whole video, from frame 0.
+  double HdrWhite() {
+    const double reference = ReferenceWhiteLinear(info.encoding.transfer);
+    if (!Next()) return reference;
+    cv::Mat luma = Luma();
+    if (luma.depth() == CV_8U) luma.convertTo(luma, CV_16U, 256);
+    std::vector<int> histogram(1024, 0);
+    for (int v = 0; v < luma.rows; ++v) {
+      const auto* row = luma.ptr<uint16_t>(v);
+      for (int u = 0; u < luma.cols; ++u) ++histogram[row[u] >> 6];
+    }
+    int64_t above = 0, bin = 1023;
+    const int64_t wanted = luma.total() / 100;
+    for (; bin > 0 && above + histogram[bin] <= wanted; --bin) {
+      above += histogram[bin];
+    }
+    const double code16 = bin * 64.0;  // the bin's bottom: never above it
+    const double black = info.full_range ? 0.0 : 16.0 * 256.0;
+    const double white = info.full_range ? 65535.0 : 235.0 * 256.0;
+    const double bright =
+        ToLinear(info.encoding.transfer, (code16 - black) / (white - black));
+    Rewind();
+    return bright > 1.5 * reference ? bright : reference;
   }
 
   void Convert(VideoFrame* out) {
@@ -134,12 +313,7 @@ struct VideoReader::State {
     out->index = last_good_index;
     const int w = frame->width, h = frame->height;
     if (options.want_luma) {
-      const cv::Mat plane(h, w, CV_8UC1, frame->data[0], frame->linesize[0]);
-      if (info.rotation_deg == 0) {
-        out->luma = plane;  // a view: no copy on the hot path
-      } else {
-        Rotate(plane, &out->luma);
-      }
+      out->luma = Luma();  // a view or the reused buffer: no allocation
     } else {
       out->luma.release();
     }
@@ -158,17 +332,21 @@ struct VideoReader::State {
                      cv::Size dst_size = {}) {
     if (dst_size.empty()) dst_size = {w, h};
     const bool reduce = dst_size != cv::Size(w, h);
+    // SDR BT.709 straight to 8 bits; anything else through 16 bits to SDR.
     *context = sws_getCachedContext(
         *context, w, h, static_cast<AVPixelFormat>(frame->format),
-        dst_size.width, dst_size.height, AV_PIX_FMT_BGR24,
+        dst_size.width, dst_size.height,
+        to_sdr ? AV_PIX_FMT_BGR48LE : AV_PIX_FMT_BGR24,
         reduce ? SWS_AREA : SWS_BILINEAR, nullptr, nullptr, nullptr);
-    SetColorspace(*context, frame->colorspace, frame->color_range);
+    SetYuvToRgb(*context, frame->colorspace, frame->color_range);
     // swscale's vector code writes whole 16-pixel blocks: rows padded to
     // them (and aligned), then cut to the width.
-    cv::Mat padded(dst_size.height, (dst_size.width + 15) / 16 * 16, CV_8UC3);
+    cv::Mat padded(dst_size.height, (dst_size.width + 15) / 16 * 16,
+                   to_sdr ? CV_16UC3 : CV_8UC3);
     uint8_t* dst[] = {padded.data};
     const int dst_stride[] = {static_cast<int>(padded.step)};
     sws_scale(*context, data, linesize, 0, h, dst, dst_stride);
+    if (to_sdr) return to_sdr->Convert(padded.colRange(0, dst_size.width));
     return padded.colRange(0, dst_size.width);  // owned: not a view
   }
 
@@ -254,6 +432,67 @@ VideoReader::VideoReader(const std::string& path,
       quarter_turn ? stream->codecpar->height : stream->codecpar->width;
   info.height_px =
       quarter_turn ? stream->codecpar->width : stream->codecpar->height;
+
+  // The pixel format is checked here, so an unreadable video is refused by
+  // name before any measurement starts.
+  s.desc =
+      av_pix_fmt_desc_get(static_cast<AVPixelFormat>(stream->codecpar->format));
+  if (auto why = WhyUnsupported(s.desc)) {
+    s.Fail(*why +
+           "; softbench reads YUV or grey video of 8 to 16 bits (4:2:0, "
+           "4:2:2 or 4:4:4); re-encode it, e.g. ffmpeg -i IN -pix_fmt "
+           "yuv444p10le OUT.mp4");
+  }
+  info.pixel_format = s.desc->name;
+  info.bit_depth = s.desc->comp[0].depth;
+  const int sub_w = s.desc->log2_chroma_w, sub_h = s.desc->log2_chroma_h;
+  info.chroma = s.desc->nb_components < 3  ? "grey"
+                : sub_w == 1 && sub_h == 1 ? "4:2:0"
+                : sub_w == 1 && sub_h == 0 ? "4:2:2"
+                : sub_w == 0 && sub_h == 0 ? "4:4:4"
+                                           : "4:1:1";
+  info.full_range = stream->codecpar->color_range == AVCOL_RANGE_JPEG ||
+                    (s.desc->name[0] == 'y' && s.desc->name[1] == 'u' &&
+                     s.desc->name[2] == 'v' && s.desc->name[3] == 'j');
+  if (s.desc->comp[0].step == 2) {
+    s.luma_shift = 16 - s.desc->comp[0].depth - s.desc->comp[0].shift;
+  }
+  info.encoding = EncodingOf(*stream->codecpar);
+
+  // Only the video stream is read from here on.
+  for (unsigned i = 0; i < s.format->nb_streams; ++i) {
+    if (static_cast<int>(i) != s.stream) {
+      s.format->streams[i]->discard = AVDISCARD_ALL;
+    }
+  }
+  s.ScanFrameTimes();
+  if (info.frame_times_s.empty()) {  // no timestamps: constant rate
+    for (int64_t k = 0; k < info.frame_count; ++k) {
+      info.frame_times_s.push_back(k / info.fps);
+    }
+  } else {
+    if (info.frame_count <= 0) info.frame_count = info.frame_times_s.size();
+    double shortest = INFINITY, longest = 0.0;
+    for (size_t i = 0; i + 1 < info.frame_times_s.size(); ++i) {
+      const double dt = info.frame_times_s[i + 1] - info.frame_times_s[i];
+      shortest = std::min(shortest, dt);
+      longest = std::max(longest, dt);
+    }
+    info.variable_frame_rate = longest > 1.01 * shortest;
+  }
+  info.frame_interval_s = 1.0 / info.fps;
+  if (info.frame_times_s.size() >= 2) {
+    std::vector<double> intervals;
+    for (size_t i = 0; i + 1 < info.frame_times_s.size(); ++i) {
+      intervals.push_back(info.frame_times_s[i + 1] - info.frame_times_s[i]);
+    }
+    std::nth_element(intervals.begin(),
+                     intervals.begin() + intervals.size() / 2, intervals.end());
+    info.frame_interval_s = intervals[intervals.size() / 2];
+  }
+  if (!info.encoding.IsSdrBt709()) {
+    s.to_sdr.emplace(info.encoding, s.HdrWhite());
+  }
 }
 
 VideoReader::~VideoReader() = default;
@@ -271,16 +510,23 @@ bool VideoReader::Skip() { return state_->Next(); }
 
 VideoFrame VideoReader::SeekTo(double time_s) {
   State& s = *state_;
-  const double half_frame = 0.5 / s.info.fps;
-  if (!(time_s >= -half_frame) || time_s > s.info.duration_s - half_frame) {
+  const VideoInfo& info = s.info;
+  const double half_frame = 0.5 * info.frame_interval_s;
+  if (!(time_s >= -half_frame) || time_s > info.LastFrameS() + half_frame) {
     s.Fail(
         fmt::format("cannot seek to t = {:.3f} s: the video runs from 0 to "
                     "{:.3f} s",
-                    time_s, s.info.duration_s));
+                    time_s, info.duration_s));
   }
+  // The frame nearest the request, by the container's timestamps.
+  const int64_t wanted = info.NearestFrame(time_s);
+  if (info.frame_times_s.empty()) s.Fail("the video has no frames");
+  const double wanted_s = info.frame_times_s[wanted];
   const int64_t target =
-      s.start_pts +
-      static_cast<int64_t>(std::floor(time_s / av_q2d(s.time_base)));
+      s.frame_pts.empty()
+          ? s.start_pts +
+                static_cast<int64_t>(std::floor(wanted_s / av_q2d(s.time_base)))
+          : s.frame_pts[wanted];
   // Decode forward without seeking when no key frame lies between the frame
   // on screen and the target: a seek would start from the same key frame.
   AVStream* stream = s.format->streams[s.stream];
@@ -288,36 +534,49 @@ VideoFrame VideoReader::SeekTo(double time_s) {
       av_index_search_timestamp(stream, target, AVSEEK_FLAG_BACKWARD);
   const AVIndexEntry* key_entry =
       key >= 0 ? avformat_index_get_entry(stream, key) : nullptr;
-  const bool forward = !s.finished && s.last_good_pts != AV_NOPTS_VALUE &&
-                       s.last_good_time < time_s - half_frame &&
-                       key_entry != nullptr &&
-                       key_entry->timestamp <= s.last_good_pts;
-  if (!forward) {
-    const int err =
-        av_seek_frame(s.format, s.stream, target, AVSEEK_FLAG_BACKWARD);
-    if (err < 0) {
-      s.Fail(fmt::format("seek to t = {:.3f} s failed ({})", time_s,
-                         FfmpegError(err)));
+  bool forward = !s.finished && s.last_good_pts != AV_NOPTS_VALUE &&
+                 s.last_good_pts < target && key_entry != nullptr &&
+                 key_entry->timestamp <= s.last_good_pts;
+  int64_t seek_to = target;
+  for (int attempt = 0;; ++attempt) {
+    if (!forward) {
+      const int err =
+          av_seek_frame(s.format, s.stream, seek_to, AVSEEK_FLAG_BACKWARD);
+      if (err < 0) {
+        s.Fail(fmt::format("seek to t = {:.3f} s failed ({})", time_s,
+                           FfmpegError(err)));
+      }
+      avcodec_flush_buffers(s.codec);
+      s.flushing = s.finished = false;
     }
-    avcodec_flush_buffers(s.codec);
-    s.flushing = s.finished = false;
-  }
-  // Decode up to the frame on screen at `time_s`, skipping the frames no
-  // other frame refers to.
-  s.discard_before_pts =
-      s.start_pts + static_cast<int64_t>(std::floor((time_s - half_frame) /
-                                                    av_q2d(s.time_base)));
-  for (;;) {
-    if (!s.Next()) {
-      s.discard_before_pts = INT64_MIN;
-      s.Fail(fmt::format("seek to t = {:.3f} s ran past the end", time_s));
+    // Decode up to the target, skipping the frames no other frame refers
+    // to.
+    s.discard_before_pts = target;
+    bool decoded = true;
+    while ((decoded = s.Next()) && s.last_good_pts < target) {
     }
-    if (s.last_good_time >= time_s - half_frame) break;
-  }
-  s.discard_before_pts = INT64_MIN;
-  if (std::abs(s.last_good_time - time_s) > half_frame) {
-    s.Fail(fmt::format("seek to t = {:.3f} s landed on t = {:.3f} s", time_s,
-                       s.last_good_time));
+    s.discard_before_pts = INT64_MIN;
+    if (decoded && std::abs(s.last_good_time - wanted_s) <=
+                       (s.frame_pts.empty() ? half_frame : 1e-6)) {
+      break;
+    }
+    // Past the target: in an open GOP (HEVC's CRA key frames) the frames
+    // shown just before a key frame are decoded after it from the GOP
+    // before, and a decoder that starts at that key frame drops them. Start
+    // from the key frame before.
+    const int earlier =
+        av_index_search_timestamp(stream, seek_to, AVSEEK_FLAG_BACKWARD);
+    const AVIndexEntry* entry =
+        earlier >= 0 ? avformat_index_get_entry(stream, earlier) : nullptr;
+    if (attempt == 2 || entry == nullptr) {
+      s.Fail(decoded ? fmt::format("seek to t = {:.3f} s landed on t = "
+                                   "{:.3f} s",
+                                   time_s, s.last_good_time)
+                     : fmt::format("seek to t = {:.3f} s ran past the end",
+                                   time_s));
+    }
+    seek_to = entry->timestamp - 1;
+    forward = false;
   }
   VideoFrame frame;
   s.Convert(&frame);
@@ -373,7 +632,24 @@ cv::Mat VideoReader::ConvertRegion(const cv::Rect& aligned,
 }
 
 bool VideoReader::RegionsConvertInPlace() const {
-  return state_->info.rotation_deg == 0 && PlanarYuv(*state_->frame);
+  return PlanarYuv(*state_->frame) != nullptr;
+}
+
+cv::Rect VideoReader::StoredRect(const cv::Rect& display) const {
+  // The decoded frame is turned clockwise by the rotation for display.
+  const int w = state_->frame->width, h = state_->frame->height;
+  const int x0 = display.x, y0 = display.y, x1 = display.br().x,
+            y1 = display.br().y;
+  switch (state_->info.rotation_deg) {
+    case 90:
+      return {y0, h - x1, y1 - y0, x1 - x0};
+    case 180:
+      return {w - x1, h - y1, x1 - x0, y1 - y0};
+    case 270:
+      return {w - y1, x0, y1 - y0, x1 - x0};
+    default:
+      return display;
+  }
 }
 
 cv::Mat VideoReader::BgrRegion(const cv::Rect& region) {
@@ -382,18 +658,21 @@ cv::Mat VideoReader::BgrRegion(const cv::Rect& region) {
       region & cv::Rect(0, 0, s.info.width_px, s.info.height_px);
   if (clipped.empty() || s.last_good_index < 0) return {};
   if (!RegionsConvertInPlace()) {
-    // Rare path (phone portrait video, packed formats): convert it all.
+    // Rare path (formats without planes to point into): convert it all.
     cv::Mat full;
     s.Rotate(s.ConvertBgr(&s.sws, s.frame->data, s.frame->linesize,
                           s.frame->width, s.frame->height),
              &full);
     return full(clipped).clone();
   }
-  // Grow the region to whole chroma samples, convert, and cut the request
-  // out of it.
-  const cv::Rect aligned = ChromaAligned(clipped, *PlanarYuv(*s.frame),
+  // The region as decoded (before the display rotation), grown to whole
+  // chroma samples, converted, cut to the request and turned upright.
+  const cv::Rect stored = StoredRect(clipped);
+  const cv::Rect aligned = ChromaAligned(stored, *PlanarYuv(*s.frame),
                                          {s.frame->width, s.frame->height});
-  return ConvertRegion(aligned, {})(clipped - aligned.tl()).clone();
+  cv::Mat upright;
+  s.Rotate(ConvertRegion(aligned, {})(stored - aligned.tl()), &upright);
+  return upright.clone();
 }
 
 cv::Mat VideoReader::BgrRegionReduced(const cv::Rect& region,
@@ -402,10 +681,20 @@ cv::Mat VideoReader::BgrRegionReduced(const cv::Rect& region,
   const cv::Rect clipped =
       region & cv::Rect(0, 0, s.info.width_px, s.info.height_px);
   if (clipped.empty() || size.empty() || s.last_good_index < 0) return {};
-  if (RegionsConvertInPlace() &&
-      ChromaAligned(clipped, *PlanarYuv(*s.frame),
-                    {s.frame->width, s.frame->height}) == clipped) {
-    return ConvertRegion(clipped, size);  // straight from the planes
+  if (RegionsConvertInPlace()) {
+    const cv::Rect stored = StoredRect(clipped);
+    if (ChromaAligned(stored, *PlanarYuv(*s.frame),
+                      {s.frame->width, s.frame->height}) == stored) {
+      // Straight from the planes, reduced, then turned upright.
+      const bool quarter_turn =
+          s.info.rotation_deg == 90 || s.info.rotation_deg == 270;
+      cv::Mat upright;
+      s.Rotate(
+          ConvertRegion(
+              stored, quarter_turn ? cv::Size(size.height, size.width) : size),
+          &upright);
+      return upright;
+    }
   }
   cv::Mat reduced;
   cv::resize(BgrRegion(clipped), reduced, size, 0, 0, cv::INTER_AREA);

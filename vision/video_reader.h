@@ -5,18 +5,25 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
+
+#include "vision/color_transfer.h"
 
 namespace softbench {
 
 // One decoded frame. `luma` is the full-resolution Y plane (the channel that
-// locates edges; chroma is subsampled in 4:2:0 video), `bgr` the colour image;
-// each is filled only when VideoReaderOptions asks for it. For an unrotated
-// video `luma` is a view of the decoder's buffer, valid until the reader's
-// next Read() or SeekTo(): clone() it to keep it.
+// locates edges; chroma is subsampled in 4:2:0 video) at the video's full
+// precision: CV_8UC1 for 8-bit video, CV_16UC1 scaled to the full 16-bit
+// range for deeper video (vision/luma.h reads either). `bgr` is the colour
+// image converted to SDR BT.709 (color_transfer.h), so colour bounds tuned on
+// any footage hold on HDR footage too. Each is filled only when
+// VideoReaderOptions asks for it. For an unrotated 8-bit video `luma` is a
+// view of the decoder's buffer, valid until the reader's next Read() or
+// SeekTo(): clone() it to keep it.
 struct VideoFrame {
-  int64_t index = 0;    // 0-based frame number, from the timestamp
+  int64_t index = 0;    // 0-based frame number in presentation order
   double time_s = 0.0;  // presentation time from the start of the stream
-  cv::Mat luma;         // CV_8UC1
+  cv::Mat luma;         // CV_8UC1 or CV_16UC1
   cv::Mat bgr;          // CV_8UC3
 };
 
@@ -32,13 +39,32 @@ struct VideoInfo {
   std::string codec;  // "h264", "hevc", ...
   int width_px = 0;   // as displayed (rotation applied)
   int height_px = 0;
-  double fps = 0.0;
+  double fps = 0.0;         // average frame rate
   int64_t frame_count = 0;  // from the container's sample table
   double duration_s = 0.0;
   int rotation_deg = 0;  // clockwise rotation applied to decoded frames
+  // The pixel format ("yuv420p10le"), its luma bits and chroma subsampling
+  // ("4:2:0"), the range and the colours ("HLG BT.2020").
+  std::string pixel_format;
+  int bit_depth = 8;
+  std::string chroma;
+  bool full_range = false;
+  ColorEncoding encoding;
+  // Every frame's presentation time in order, from the container's packets:
+  // phones write variable frame rate, so frame k is not at k / fps.
+  std::vector<double> frame_times_s;
+  // The median interval between frames, and whether the intervals vary by
+  // more than 1 % (variable frame rate).
+  double frame_interval_s = 0.0;
+  bool variable_frame_rate = false;
 
   // Start time of the last frame (where windows must end).
-  double LastFrameS() const { return (frame_count - 1) / fps; }
+  double LastFrameS() const;
+  // The index of the frame nearest `time_s` (clamped to the video).
+  int64_t NearestFrame(double time_s) const;
+  // "hevc 1080x1920 yuv420p10le (10-bit 4:2:0, limited range, HLG BT.2020),
+  // 29.98 fps variable, rotated 90°".
+  std::string Description() const;
 };
 
 // The one video reader of softbench (MP4/MOV with H.264 or HEVC, anything
@@ -63,17 +89,18 @@ class VideoReader {
   // measurements and skipping); false at the end.
   bool Skip();
 
-  // Returns the frame on screen at `time_s` (Read() then continues after it);
-  // throws when the time is outside the video or the frame landed on differs
-  // from the request by more than half a frame. Decodes forward instead of
-  // seeking when no key frame lies between, and skips the non-reference
-  // frames before the target (bit-exact: nothing refers to them).
+  // Returns the frame nearest `time_s` (Read() then continues after it);
+  // throws when the time is outside the video or the decoder lands on
+  // another frame than the container's timestamps promise. Decodes forward
+  // instead of seeking when no key frame lies between, and skips the
+  // non-reference frames before the target (bit-exact: nothing refers to
+  // them).
   VideoFrame SeekTo(double time_s);
 
   // The colour of a region (display coordinates, clipped to the frame) of
   // the frame last returned by Read() or SeekTo(), converted with the same
-  // matrix as VideoFrame::bgr. Only the region is converted for unrotated
-  // planar YUV video, so tracking a few dots does not pay for a full-frame
+  // matrix as VideoFrame::bgr. Only the region is converted (and turned
+  // upright), so tracking a few dots does not pay for a full-frame
   // conversion; an empty Mat when the region misses the frame.
   cv::Mat BgrRegion(const cv::Rect& region);
   // The colour of `region` (clipped to the frame) resampled to `size` by
@@ -84,8 +111,10 @@ class VideoReader {
   cv::Mat BgrRegionReduced(const cv::Rect& region, const cv::Size& size);
 
  private:
-  // Whether regions convert from the planes in place (unrotated planar YUV).
+  // Whether regions convert from the planes in place (planar YUV).
   bool RegionsConvertInPlace() const;
+  // A rectangle of the displayed frame in the decoded frame's pixels.
+  cv::Rect StoredRect(const cv::Rect& display) const;
   // BGR of a region of whole chroma samples, at its size or `dst_size`.
   cv::Mat ConvertRegion(const cv::Rect& aligned, const cv::Size& dst_size);
 

@@ -9,6 +9,7 @@ extern "C" {
 #include <libavformat/avformat.h>
 #include <libavutil/display.h>
 #include <libavutil/opt.h>
+#include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 }
 
@@ -29,18 +30,42 @@ std::optional<std::string> VideoWriterOptions::Check() const {
   if (threads < 1) return "threads must be >= 1";
   if (!(keyframe_interval_s > 0.0)) return "keyframe interval must be > 0";
   if (rotation_deg % 90 != 0) return "rotation must be a multiple of 90";
+  if (bit_depth != 8 && bit_depth != 10 && bit_depth != 12) {
+    return "bit depth must be 8, 10 or 12";
+  }
+  if (bit_depth == 12 && codec != "hevc") return "12 bits need hevc";
+  if (chroma != "4:2:0" && chroma != "4:2:2" && chroma != "4:4:4") {
+    return "chroma must be 4:2:0, 4:2:2 or 4:4:4";
+  }
+  if (time_base_hz < 0) return "time base must be >= 0";
   return std::nullopt;
 }
 
+namespace {
+
+AVPixelFormat PixelFormat(const VideoWriterOptions& o) {
+  const std::string name =
+      std::string(o.chroma == "4:4:4"   ? "yuv444p"
+                  : o.chroma == "4:2:2" ? "yuv422p"
+                                        : "yuv420p") +
+      (o.bit_depth == 8 ? "" : std::to_string(o.bit_depth) + "le");
+  return av_get_pix_fmt(name.c_str());
+}
+
+}  // namespace
+
 struct VideoWriter::State {
   std::string path;
+  VideoWriterOptions options;
   AVFormatContext* format = nullptr;
   AVCodecContext* codec = nullptr;
   AVStream* stream = nullptr;
   AVFrame* frame = nullptr;
   AVPacket* packet = nullptr;
-  SwsContext* sws = nullptr;
+  SwsContext* sws = nullptr;  // for the last input type
+  int sws_input_type = -1;
   int64_t next_pts = 0;
+  int64_t frame_ticks = 1;  // ticks of the time base per nominal frame
   bool open = false;
 
   [[noreturn]] void Fail(const std::string& what, int error) const {
@@ -55,14 +80,41 @@ struct VideoWriter::State {
       err = avcodec_receive_packet(codec, packet);
       if (err == AVERROR(EAGAIN) || err == AVERROR_EOF) return;
       if (err < 0) Fail("encoding failed", err);
-      // Each packet lasts one frame, so the container's duration counts the
-      // last frame too.
-      if (packet->duration == 0) packet->duration = 1;
+      // Each packet lasts one nominal frame, so the container's duration
+      // counts the last frame too.
+      if (packet->duration == 0) packet->duration = frame_ticks;
       av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
       packet->stream_index = stream->index;
       err = av_interleaved_write_frame(format, packet);
       if (err < 0) Fail("writing failed", err);
     }
+  }
+
+  // The encoder's input from SDR BT.709 BGR: straight for 8-bit SDR, else
+  // through 16 bits (and the HDR transfer).
+  void ToFrame(const cv::Mat& bgr) {
+    const bool direct = bgr.type() == CV_8UC3 &&
+                        options.encoding.IsSdrBt709() && options.bit_depth == 8;
+    cv::Mat input = bgr;
+    if (!options.encoding.IsSdrBt709()) {
+      input = ConvertFromSdr(bgr, options.encoding);
+    } else if (!direct && bgr.depth() == CV_8U) {
+      bgr.convertTo(input, CV_16U, 257.0);
+    }
+    if (sws_input_type != input.type()) {
+      sws_freeContext(sws);
+      sws = sws_getContext(
+          input.cols, input.rows,
+          input.depth() == CV_8U ? AV_PIX_FMT_BGR24 : AV_PIX_FMT_BGR48LE,
+          input.cols, input.rows, codec->pix_fmt,
+          SWS_BILINEAR | SWS_ACCURATE_RND, nullptr, nullptr, nullptr);
+      SetRgbToYuv(sws, codec->colorspace, codec->color_range);
+      sws_input_type = input.type();
+    }
+    const uint8_t* src[] = {input.data};
+    const int src_stride[] = {static_cast<int>(input.step)};
+    sws_scale(sws, src, src_stride, 0, input.rows, frame->data,
+              frame->linesize);
   }
 
   ~State() {
@@ -83,6 +135,7 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
   assert(!options.Check());
   State& s = *state_;
   s.path = path;
+  s.options = options;
   av_log_set_level(AV_LOG_QUIET);
   // The container follows the extension (.mov: QuickTime, as phones write);
   // MP4 otherwise.
@@ -102,17 +155,38 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
   s.codec = avcodec_alloc_context3(encoder);
   s.codec->width = width_px;
   s.codec->height = height_px;
-  s.codec->pix_fmt = AV_PIX_FMT_YUV420P;
-  s.codec->time_base = av_d2q(1.0 / options.fps, 1 << 20);
+  s.codec->pix_fmt = PixelFormat(options);
+  if (options.time_base_hz > 0) {
+    s.codec->time_base = {1, options.time_base_hz};
+    s.frame_ticks =
+        std::max<int64_t>(1, std::llround(options.time_base_hz / options.fps));
+  } else {
+    s.codec->time_base = av_d2q(1.0 / options.fps, 1 << 20);
+  }
   s.codec->framerate = av_d2q(options.fps, 1 << 20);
   s.codec->gop_size = std::max(
       1,
       static_cast<int>(std::lround(options.fps * options.keyframe_interval_s)));
   s.codec->thread_count = options.threads;
-  s.codec->color_primaries = AVCOL_PRI_BT709;
-  s.codec->color_trc = AVCOL_TRC_BT709;
-  s.codec->colorspace = AVCOL_SPC_BT709;
-  s.codec->color_range = AVCOL_RANGE_MPEG;
+  const bool bt2020 = options.encoding.primaries == Primaries::kBt2020;
+  s.codec->color_primaries = bt2020 ? AVCOL_PRI_BT2020 : AVCOL_PRI_BT709;
+  s.codec->colorspace = bt2020 ? AVCOL_SPC_BT2020_NCL : AVCOL_SPC_BT709;
+  switch (options.encoding.transfer) {
+    case Transfer::kHlg:
+      s.codec->color_trc = AVCOL_TRC_ARIB_STD_B67;
+      break;
+    case Transfer::kPq:
+      s.codec->color_trc = AVCOL_TRC_SMPTE2084;
+      break;
+    case Transfer::kSdr:
+      s.codec->color_trc = bt2020
+                               ? (options.bit_depth > 10 ? AVCOL_TRC_BT2020_12
+                                                         : AVCOL_TRC_BT2020_10)
+                               : AVCOL_TRC_BT709;
+      break;
+  }
+  s.codec->color_range =
+      options.full_range ? AVCOL_RANGE_JPEG : AVCOL_RANGE_MPEG;
   s.codec->flags |= AV_CODEC_FLAG_BITEXACT;
   if (s.format->oformat->flags & AVFMT_GLOBALHEADER) {
     s.codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
@@ -150,23 +224,24 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
   err = avio_open(&s.format->pb, path.c_str(), AVIO_FLAG_WRITE);
   if (err < 0) s.Fail("cannot create the file", err);
   AVDictionary* muxer_options = nullptr;
-  av_dict_set(&muxer_options, "movflags", "+faststart", 0);
+  // The colour description goes into the container too (the colr atom), as
+  // phones write it.
+  av_dict_set(&muxer_options, "movflags", "+faststart+write_colr", 0);
   err = avformat_write_header(s.format, &muxer_options);
   av_dict_free(&muxer_options);
   if (err < 0) s.Fail("cannot write the header", err);
 
   s.frame = av_frame_alloc();
-  s.frame->format = AV_PIX_FMT_YUV420P;
+  s.frame->format = s.codec->pix_fmt;
   s.frame->width = width_px;
   s.frame->height = height_px;
+  s.frame->color_range = s.codec->color_range;
+  s.frame->color_primaries = s.codec->color_primaries;
+  s.frame->color_trc = s.codec->color_trc;
+  s.frame->colorspace = s.codec->colorspace;
   err = av_frame_get_buffer(s.frame, 0);
   if (err < 0) s.Fail("out of memory", err);
   s.packet = av_packet_alloc();
-  s.sws =
-      sws_getContext(width_px, height_px, AV_PIX_FMT_BGR24, width_px, height_px,
-                     AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND,
-                     nullptr, nullptr, nullptr);
-  SetColorspace(s.sws, AVCOL_SPC_BT709, AVCOL_RANGE_MPEG);
   s.open = true;
 }
 
@@ -178,17 +253,21 @@ VideoWriter::~VideoWriter() {
   }
 }
 
-void VideoWriter::Write(const cv::Mat& bgr) {
+void VideoWriter::Write(const cv::Mat& bgr, double time_s) {
   State& s = *state_;
-  assert(s.open && bgr.type() == CV_8UC3 && bgr.cols == s.codec->width &&
-         bgr.rows == s.codec->height);
+  assert(s.open && (bgr.type() == CV_8UC3 || bgr.type() == CV_16UC3) &&
+         bgr.cols == s.codec->width && bgr.rows == s.codec->height);
   const int err = av_frame_make_writable(s.frame);
   if (err < 0) s.Fail("out of memory", err);
-  const uint8_t* src[] = {bgr.data};
-  const int src_stride[] = {static_cast<int>(bgr.step)};
-  sws_scale(s.sws, src, src_stride, 0, bgr.rows, s.frame->data,
-            s.frame->linesize);
-  s.frame->pts = s.next_pts++;
+  s.ToFrame(bgr);
+  int64_t pts = s.next_pts;
+  if (time_s >= 0.0) {
+    assert(s.options.time_base_hz > 0);
+    pts = std::llround(time_s * s.options.time_base_hz);
+    assert(pts >= s.next_pts);
+  }
+  s.frame->pts = pts;
+  s.next_pts = pts + (time_s >= 0.0 ? 1 : s.frame_ticks);
   s.Encode(s.frame);
 }
 

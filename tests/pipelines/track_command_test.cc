@@ -211,6 +211,30 @@ TEST_F(TrackCommandTest, TuneWritesImagesAndARangeThatHoldsTheDots) {
   EXPECT_NE(out.str().find("  hsv: ["), std::string::npos) << out.str();
 }
 
+// An iPhone's default video (the phone sample: HLG 10-bit HEVC, stored
+// sideways with its rotation): tune's SDR colours find the dots with the
+// built-in range, and its pictures are upright.
+TEST_F(TrackCommandTest, TuneFindsTheDotsOnHdrPortraitFootage) {
+  TuneCommandOptions options;
+  options.video_path =
+      std::string(SOFTBENCH_SOURCE_DIR) + "/samples/phone/phone.mp4";
+  options.at_s = 0.5;
+  options.output_dir = Path("tune");
+  std::ostringstream out;
+  ASSERT_EQ(RunTune(options, out), 0);
+  EXPECT_NE(out.str().find("red: 3 dots"), std::string::npos) << out.str();
+  // Named by the frame's own time (variable frame rate: 0.505 s).
+  cv::Mat frame;
+  for (const auto& entry : fs::directory_iterator(Path("tune"))) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() > 10 && name.substr(name.size() - 10) == "_frame.png") {
+      frame = cv::imread(entry.path().string());
+    }
+  }
+  EXPECT_EQ(frame.cols, 1080);
+  EXPECT_EQ(frame.rows, 1920);
+}
+
 TEST_F(TrackCommandTest, TuneRejectsAnUnknownColour) {
   TuneCommandOptions options;
   options.video_path = Path("clip.mp4");

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "util/input_error.h"
@@ -124,6 +125,22 @@ TEST(VideoIo, SeekLandsOnTheRequestedFrame) {
   EXPECT_THROW(reader.SeekTo(-1.0), InputError);
 }
 
+// x265 writes open GOPs: the frames shown just before a key frame (CRA) are
+// decoded after it and need the GOP before, so a decoder started at that
+// key frame drops them. Seeking must still land on every one of them.
+TEST(VideoIo, SeekLandsOnEveryFrameOfOpenGopHevc) {
+  VideoWriterOptions options;
+  options.codec = "hevc";
+  options.keyframe_interval_s = 0.3;
+  const std::string path = WriteVideo("softbench_io_open_gop.mp4", 40, options);
+  VideoReader reader(path);
+  for (int k = 39; k >= 0; k -= 2) {  // backwards: a real seek every time
+    const VideoFrame frame = reader.SeekTo(k / 30.0);
+    EXPECT_EQ(frame.index, k);
+    EXPECT_TRUE(IsFrame(frame.bgr, k, {320, 240})) << k;
+  }
+}
+
 TEST(VideoIo, RotationMetadataIsApplied) {
   VideoWriterOptions options;
   options.rotation_deg = 90;
@@ -205,12 +222,29 @@ TEST(VideoIo, RegionColourMatchesTheFullFrame) {
     EXPECT_LE(RegionMismatch(&reader, frame, region), 2) << region;
   }
   EXPECT_TRUE(reader.BgrRegion(cv::Rect(400, 400, 10, 10)).empty());
-  // Rotated video takes the full-frame path and agrees too.
-  VideoWriterOptions rotated;
-  rotated.rotation_deg = 90;
-  VideoReader turned(WriteVideo("softbench_io_region_rotated.mp4", 2, rotated));
-  ASSERT_TRUE(turned.Read(&frame));
-  EXPECT_EQ(RegionMismatch(&turned, frame, cv::Rect(31, 17, 50, 40)), 0);
+  // Rotated video (a phone's portrait) converts the region as stored and
+  // turns it upright: the same colours as the upright full frame, reduced
+  // regions too.
+  for (const int rotation : {90, 180, 270}) {
+    VideoWriterOptions rotated;
+    rotated.rotation_deg = rotation;
+    VideoReader turned(
+        WriteVideo("softbench_io_region_rotated.mp4", 2, rotated));
+    ASSERT_TRUE(turned.Read(&frame));
+    for (const cv::Rect& region :
+         {cv::Rect(31, 17, 50, 40), cv::Rect(100, 64, 32, 48),
+          cv::Rect(190, 200, 60, 60)}) {
+      EXPECT_LE(RegionMismatch(&turned, frame, region), 2)
+          << rotation << " " << region;
+    }
+    // (Upside down, 4:2:0's left-sited chroma lands half a sample off: a
+    // little more colour difference at the pattern's sharp colour edges.)
+    EXPECT_LT(ReducedMismatch(&turned, frame, cv::Rect(32, 40, 120, 90),
+                              cv::Size(40, 30))
+                  .first,
+              3.0)
+        << rotation;
+  }
 }
 
 TEST(VideoIo, TruncatedFileIsAClearErrorNamingTheLastGoodFrame) {
@@ -240,6 +274,169 @@ TEST(VideoIo, UnreadableFilesAreClearErrors) {
   std::ofstream(junk) << "this is not a video";
   EXPECT_THROW(VideoReader reader(junk), InputError);
   EXPECT_THROW(VideoReader reader("/nonexistent/softbench.mp4"), InputError);
+}
+
+// Four flat patches: white, black, a dot's red and mid grey.
+cv::Mat Patches() {
+  cv::Mat frame(128, 128, CV_8UC3);
+  frame(cv::Rect(0, 0, 64, 64)).setTo(cv::Scalar(255, 255, 255));
+  frame(cv::Rect(64, 0, 64, 64)).setTo(cv::Scalar(0, 0, 0));
+  frame(cv::Rect(0, 64, 64, 64)).setTo(cv::Scalar(40, 60, 200));
+  frame(cv::Rect(64, 64, 64, 64)).setTo(cv::Scalar(128, 128, 128));
+  return frame;
+}
+
+// Every format phones and lab cameras write reads back with its facts and,
+// through SDR, the colours it was made from: 8, 10 and 12 bits; 4:2:0,
+// 4:2:2 and 4:4:4; limited and full range; SDR, HLG and PQ.
+TEST(VideoIo, EveryPhoneAndCameraFormatReadsBackItsColours) {
+  struct Format {
+    std::string codec;
+    int bits;
+    std::string chroma;
+    bool full_range;
+    ColorEncoding encoding;
+    std::string pixel_format;
+  };
+  const ColorEncoding sdr, hlg{Transfer::kHlg, Primaries::kBt2020},
+      pq{Transfer::kPq, Primaries::kBt2020},
+      sdr2020{Transfer::kSdr, Primaries::kBt2020};
+  const std::vector<Format> formats = {
+      {"h264", 8, "4:2:0", false, sdr, "yuv420p"},
+      {"h264", 8, "4:2:2", true, sdr, "yuvj422p"},
+      {"h264", 10, "4:4:4", false, sdr, "yuv444p10le"},
+      {"hevc", 10, "4:2:0", false, hlg, "yuv420p10le"},
+      {"hevc", 10, "4:2:2", true, pq, "yuv422p10le"},
+      {"hevc", 12, "4:4:4", false, hlg, "yuv444p12le"},
+      {"hevc", 12, "4:2:0", true, sdr2020, "yuv420p12le"},
+  };
+  const cv::Mat patches = Patches();
+  for (const Format& f : formats) {
+    VideoWriterOptions options;
+    options.codec = f.codec;
+    options.bit_depth = f.bits;
+    options.chroma = f.chroma;
+    options.full_range = f.full_range;
+    options.encoding = f.encoding;
+    options.crf = 0;
+    const std::string path =
+        (fs::temp_directory_path() / "softbench_io_format.mp4").string();
+    {
+      VideoWriter writer(path, 128, 128, options);
+      for (int k = 0; k < 3; ++k) writer.Write(patches);
+      writer.Close();
+    }
+    VideoReader reader(path);
+    const VideoInfo& info = reader.info();
+    const std::string what = f.codec + " " + f.pixel_format + " " +
+                             f.encoding.Name() + " " + info.Description();
+    EXPECT_EQ(info.bit_depth, f.bits) << what;
+    EXPECT_EQ(info.chroma, f.chroma) << what;
+    EXPECT_EQ(info.full_range, f.full_range) << what;
+    EXPECT_EQ(info.encoding.Name(), f.encoding.Name()) << what;
+    VideoFrame frame;
+    ASSERT_TRUE(reader.Read(&frame)) << what;
+    EXPECT_EQ(frame.luma.type(), f.bits > 8 ? CV_16UC1 : CV_8UC1) << what;
+    for (const cv::Point centre : {cv::Point(32, 32), cv::Point(96, 32),
+                                   cv::Point(32, 96), cv::Point(96, 96)}) {
+      const cv::Vec3b got = frame.bgr.at<cv::Vec3b>(centre);
+      const cv::Vec3b want = patches.at<cv::Vec3b>(centre);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(got[c], want[c], 3) << what << " at " << centre;
+      }
+    }
+    // A region converts like the whole frame.
+    const cv::Mat region = reader.BgrRegion(cv::Rect(20, 80, 24, 24));
+    EXPECT_NEAR(region.at<cv::Vec3b>(12, 12)[2], 200, 3) << what;
+  }
+}
+
+// Deeper video keeps luma between 8-bit levels: two patches half a level
+// apart read half a level apart (limited range: 219 / 255 of it), where
+// 8-bit luma would round both to one level or a whole one apart.
+TEST(VideoIo, DeepLumaKeepsFractionsOfAnEightBitLevel) {
+  VideoWriterOptions options;
+  options.bit_depth = 10;
+  options.crf = 0;  // x264 at 10 bits and CRF 0 is lossless
+  const std::string path =
+      (fs::temp_directory_path() / "softbench_io_deep.mp4").string();
+  cv::Mat grey(64, 128, CV_16UC3);
+  grey.colRange(0, 64).setTo(cv::Scalar::all(100.0 * 257));
+  grey.colRange(64, 128).setTo(cv::Scalar::all(100.5 * 257));
+  {
+    VideoWriter writer(path, 128, 64, options);
+    writer.Write(grey);
+    writer.Close();
+  }
+  VideoReader reader(path);
+  VideoFrame frame;
+  ASSERT_TRUE(reader.Read(&frame));
+  ASSERT_EQ(frame.luma.type(), CV_16UC1);
+  const double left = frame.luma.at<uint16_t>(32, 32) / 256.0;
+  const double right = frame.luma.at<uint16_t>(32, 96) / 256.0;
+  EXPECT_NEAR(right - left, 0.5 * 219 / 255, 0.15);
+  EXPECT_NEAR(left, 16 + 100.0 * 219 / 255, 0.5);
+}
+
+// A variable frame rate as phones write it: every frame's time is its
+// timestamp, frames are numbered in order, and seeking finds the nearest.
+TEST(VideoIo, VariableFrameRateTimesComeFromTheTimestamps) {
+  VideoWriterOptions options;
+  options.time_base_hz = 600;
+  options.keyframe_interval_s = 0.5;
+  const std::string path =
+      (fs::temp_directory_path() / "softbench_io_vfr.mp4").string();
+  std::vector<double> times;
+  cv::RNG rng(3);
+  for (int k = 0; k < 40; ++k) {
+    // Jittered by up to a third of a frame, one frame dropped.
+    if (k == 20) continue;
+    times.push_back(std::round((k + rng.uniform(-0.33, 0.33)) * 20.0) / 600);
+  }
+  times[0] = 0.0;
+  {
+    VideoWriter writer(path, 320, 240, options);
+    for (size_t k = 0; k < times.size(); ++k) {
+      writer.Write(TestFrame(static_cast<int>(k), {320, 240}), times[k]);
+    }
+    writer.Close();
+  }
+  VideoReader reader(path);
+  const VideoInfo& info = reader.info();
+  EXPECT_TRUE(info.variable_frame_rate);
+  ASSERT_EQ(info.frame_times_s.size(), times.size());
+  EXPECT_NEAR(info.LastFrameS(), times.back(), 1e-9);
+  VideoFrame frame;
+  for (size_t k = 0; k < times.size(); ++k) {
+    EXPECT_NEAR(info.frame_times_s[k], times[k], 1e-9);
+    ASSERT_TRUE(reader.Read(&frame));
+    EXPECT_EQ(frame.index, static_cast<int64_t>(k));
+    EXPECT_NEAR(frame.time_s, times[k], 1e-9);
+  }
+  // Seeking: to a little after frame 25's time, and into the dropped gap.
+  for (const size_t k : {25u, 3u, 19u, 20u}) {
+    const VideoFrame found = reader.SeekTo(times[k] + 0.004);
+    EXPECT_EQ(found.index, static_cast<int64_t>(k));
+    EXPECT_NEAR(found.time_s, times[k], 1e-9);
+    EXPECT_TRUE(IsFrame(found.bgr, static_cast<int>(k), {320, 240})) << k;
+  }
+}
+
+// A format softbench cannot read is refused when the file is opened, by
+// name (here an RGB picture, as a user might pass by mistake).
+TEST(VideoIo, RefusesAnUnsupportedPixelFormatByName) {
+  const std::string path =
+      (fs::temp_directory_path() / "softbench_io_rgb.png").string();
+  cv::imwrite(path, Patches());
+  try {
+    VideoReader reader(path);
+    FAIL() << "an RGB picture opened as video";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("'rgb24'"), std::string::npos) << message;
+    EXPECT_NE(message.find("re-encode"), std::string::npos) << message;
+  }
 }
 
 }  // namespace

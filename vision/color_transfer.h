@@ -1,0 +1,71 @@
+#ifndef SOFTBENCH_VISION_COLOR_TRANSFER_H_
+#define SOFTBENCH_VISION_COLOR_TRANSFER_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace softbench {
+
+// How a video's R'G'B' code values encode light: the transfer function and
+// the primaries (ITU-R BT.709, BT.2020, BT.2100).
+enum class Transfer {
+  kSdr,  // BT.709 / BT.601 / BT.2020 SDR: the BT.709 camera curve
+  kHlg,  // BT.2100 hybrid log-gamma (ARIB STD-B67): phones' HDR default
+  kPq,   // BT.2100 perceptual quantiser (SMPTE ST 2084)
+};
+enum class Primaries { kBt709, kBt2020 };
+
+struct ColorEncoding {
+  Transfer transfer = Transfer::kSdr;
+  Primaries primaries = Primaries::kBt709;
+
+  // SDR with BT.709 primaries: the colours HSV bounds are tuned on.
+  bool IsSdrBt709() const {
+    return transfer == Transfer::kSdr && primaries == Primaries::kBt709;
+  }
+  std::string Name() const;  // "HLG BT.2020", "SDR BT.709", ...
+};
+
+// Linear light in [0, 1] from a code value in [0, 1], and back. The linear
+// units are the transfer's own: scene light for SDR (the BT.709 curve) and
+// HLG, display light / 10000 cd/m² for PQ.
+double ToLinear(Transfer transfer, double code);
+double FromLinear(Transfer transfer, double linear);
+
+// The linear level of SDR's white in each transfer (ITU-R BT.2408: HLG 75 %,
+// PQ 203 cd/m²): the level that converts to SDR 1.0.
+double ReferenceWhiteLinear(Transfer transfer);
+
+// Linear RGB in BT.709 primaries from linear RGB in BT.2020 primaries (from
+// the primaries' chromaticities and D65); its inverse goes the other way.
+Eigen::Matrix3d Bt709FromBt2020();
+
+// Converts R'G'B' of any encoding into SDR BT.709 R'G'B' (8 bits), so that
+// colour bounds tuned on SDR footage find the same dots on HDR footage: code
+// -> linear, scaled so that `white_linear` becomes SDR white, primaries ->
+// BT.709, clipped, then the BT.709 curve. Hue is kept; light above the
+// white clips, as an SDR camera would.
+class SdrConverter {
+ public:
+  SdrConverter(const ColorEncoding& from, double white_linear);
+  // `bgr16`: CV_16UC3, full range (65535 = code 1.0). Returns CV_8UC3.
+  cv::Mat Convert(const cv::Mat& bgr16) const;
+
+ private:
+  std::vector<float> to_linear_;      // 16-bit code -> SDR-relative linear
+  std::vector<uint8_t> from_linear_;  // linear * 65535 -> 8-bit SDR code
+  Eigen::Matrix3f bgr_from_bgr_;      // primaries, in B, G, R order
+  bool mix_ = false;                  // whether the primaries change
+};
+
+// The reverse, for rendering HDR footage: SDR BT.709 R'G'B' (CV_8UC3, or
+// CV_16UC3 with 65535 = 1.0) into `to` (CV_16UC3, full range), SDR white at
+// ReferenceWhiteLinear(to.transfer).
+cv::Mat ConvertFromSdr(const cv::Mat& bgr, const ColorEncoding& to);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_COLOR_TRANSFER_H_

@@ -1,0 +1,59 @@
+#ifndef SOFTBENCH_VISION_LUMA_H_
+#define SOFTBENCH_VISION_LUMA_H_
+
+#include <cmath>
+#include <cstdint>
+#include <opencv2/core.hpp>
+
+namespace softbench {
+
+// Luma comes as CV_8UC1 (8-bit video, images) or CV_16UC1 (10 and 12-bit
+// video, scaled to fill 16 bits; VideoFrame::luma). Measurements read it in
+// 8-bit levels, so their thresholds mean the same for both, and keep the
+// deeper video's fractions of a level.
+template <typename T>
+constexpr double kLevelsPerCode = sizeof(T) == 1 ? 1.0 : 1.0 / 256.0;
+
+// Calls `f` with a value of the luma's sample type (uint8_t or uint16_t), for
+// code templated on it.
+template <typename F>
+decltype(auto) WithLumaType(const cv::Mat& luma, F&& f) {
+  CV_Assert(luma.type() == CV_8UC1 || luma.type() == CV_16UC1);
+  if (luma.depth() == CV_16U) return f(uint16_t{});
+  return f(uint8_t{});
+}
+
+// Bilinear sample of luma of type T at (u, v) in 8-bit levels, OpenCV's
+// pixel convention; -1 outside the image.
+template <typename T>
+double SampleLuma(const cv::Mat& luma, double u, double v) {
+  const int x = static_cast<int>(std::floor(u)),
+            y = static_cast<int>(std::floor(v));
+  if (x < 0 || y < 0 || x + 1 >= luma.cols || y + 1 >= luma.rows) return -1.0;
+  const double a = u - x, b = v - y;
+  const T* r0 = luma.ptr<T>(y) + x;
+  const T* r1 = luma.ptr<T>(y + 1) + x;
+  return kLevelsPerCode<T> * ((1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
+                              b * ((1 - a) * r1[0] + a * r1[1]));
+}
+
+// Luma as 8 bits (a view when it is already), for detectors that take only
+// 8 bits (libapriltag's quads, OpenCV's checkerboard finder); measurement
+// refines on the full-precision luma afterwards.
+inline cv::Mat LumaAs8Bit(const cv::Mat& luma) {
+  if (luma.depth() == CV_8U) return luma;
+  cv::Mat out;
+  luma.convertTo(out, CV_8U, 1.0 / 256.0);
+  return out;
+}
+
+// Luma as float in 8-bit levels.
+inline cv::Mat LumaAsFloat(const cv::Mat& luma) {
+  cv::Mat out;
+  luma.convertTo(out, CV_32F, luma.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
+  return out;
+}
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_LUMA_H_
