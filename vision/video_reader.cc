@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -42,6 +43,66 @@ std::optional<std::string> WhyUnsupported(const AVPixFmtDescriptor* desc) {
     return "pixel format '" + name + "' is not YUV or grey with a luma plane";
   }
   return std::nullopt;
+}
+
+// 16-bit luma turned a quarter turn (clockwise for 90, counter-clockwise
+// for 270) and shifted left by `shift`, in 8 x 8 blocks transposed in SIMD
+// registers: one pass instead of cv::rotate's transpose and flip and a
+// shift after them (every frame of a portrait 10-bit phone video).
+void QuarterTurn16(const cv::Mat& in, int rotation_deg, int shift,
+                   cv::Mat* out) {
+  const int h = in.rows, w = in.cols;
+  out->create(w, h, CV_16UC1);
+  const bool clockwise = rotation_deg == 90;
+  // Output (i, j) shows input (h - 1 - j, i) clockwise, (j, w - 1 - i)
+  // counter-clockwise.
+  const auto at = [&](int i, int j) -> uint16_t {
+    return clockwise ? in.ptr<uint16_t>(h - 1 - j)[i]
+                     : in.ptr<uint16_t>(j)[w - 1 - i];
+  };
+  int i0 = 0;
+  for (; i0 + 8 <= w; i0 += 8) {
+    int j0 = 0;
+    for (; j0 + 8 <= h; j0 += 8) {
+      // Rows of the input whose transpose is the output block.
+      cv::v_uint16x8 r[8];
+      for (int k = 0; k < 8; ++k) {
+        const uint16_t* src = clockwise ? in.ptr<uint16_t>(h - 1 - j0 - k) + i0
+                                        : in.ptr<uint16_t>(j0 + k) + w - 8 - i0;
+        r[k] = cv::v_load(src) << shift;
+      }
+      cv::v_uint16x8 a[8];
+      for (int k = 0; k < 8; k += 2) cv::v_zip(r[k], r[k + 1], a[k], a[k + 1]);
+      cv::v_uint32x4 b[8];
+      for (int k = 0; k < 2; ++k) {
+        cv::v_zip(cv::v_reinterpret_as_u32(a[k]),
+                  cv::v_reinterpret_as_u32(a[k + 2]), b[2 * k], b[2 * k + 1]);
+        cv::v_zip(cv::v_reinterpret_as_u32(a[k + 4]),
+                  cv::v_reinterpret_as_u32(a[k + 6]), b[2 * k + 4],
+                  b[2 * k + 5]);
+      }
+      cv::v_float64x2 c[8];  // 64-bit lanes: OpenCV zips them as doubles
+      for (int k = 0; k < 4; ++k) {
+        cv::v_zip(cv::v_reinterpret_as_f64(b[k]),
+                  cv::v_reinterpret_as_f64(b[k + 4]), c[2 * k], c[2 * k + 1]);
+      }
+      for (int m = 0; m < 8; ++m) {
+        cv::v_store(out->ptr<uint16_t>(i0 + m) + j0,
+                    cv::v_reinterpret_as_u16(c[clockwise ? m : 7 - m]));
+      }
+    }
+    for (; j0 < h; ++j0) {
+      for (int m = 0; m < 8; ++m) {
+        out->ptr<uint16_t>(i0 + m)[j0] =
+            static_cast<uint16_t>(at(i0 + m, j0) << shift);
+      }
+    }
+  }
+  for (; i0 < w; ++i0) {
+    for (int j = 0; j < h; ++j) {
+      out->ptr<uint16_t>(i0)[j] = static_cast<uint16_t>(at(i0, j) << shift);
+    }
+  }
 }
 
 // The transfer and primaries a stream's metadata declares (SDR BT.709 when
@@ -224,6 +285,10 @@ struct VideoReader::State {
     const cv::Mat plane(h, w, deep ? CV_16UC1 : CV_8UC1, frame->data[0],
                         frame->linesize[0]);
     if (info.rotation_deg == 0 && luma_shift == 0) return plane;
+    if (deep && (info.rotation_deg == 90 || info.rotation_deg == 270)) {
+      QuarterTurn16(plane, info.rotation_deg, luma_shift, &luma_upright);
+      return luma_upright;
+    }
     if (info.rotation_deg == 0) {
       luma_upright.create(h, w, CV_16UC1);
     } else {
@@ -283,11 +348,18 @@ struct VideoReader::State {
   // The level HDR footage shows as SDR white: BT.2408's reference white, or
   // the brightest 1 % of the first frame's luma when that is clearly (1.5
   // times) brighter, so footage graded with its white at the top of the
-  // range is not clipped. One value for the whole video, from frame 0.
-  double HdrWhite() {
+  // range is not clipped. One value for the whole video, from frame 0 (read
+  // by a reader of its own, so this one's position is kept); measured only
+  // when colour is first asked for.
+  double HdrWhite() const {
     const double reference = ReferenceWhiteLinear(info.encoding.transfer);
-    if (!Next()) return reference;
-    cv::Mat luma = Luma();
+    VideoReaderOptions luma_only;
+    luma_only.want_bgr = false;
+    luma_only.threads = 1;
+    VideoReader first(path, luma_only);
+    VideoFrame frame;
+    if (!first.Read(&frame)) return reference;
+    cv::Mat luma = frame.luma;
     if (luma.depth() == CV_8U) luma.convertTo(luma, CV_16U, 256);
     std::vector<int> histogram(1024, 0);
     for (int v = 0; v < luma.rows; ++v) {
@@ -304,7 +376,6 @@ struct VideoReader::State {
     const double white = info.full_range ? 65535.0 : 235.0 * 256.0;
     const double bright =
         ToLinear(info.encoding.transfer, (code16 - black) / (white - black));
-    Rewind();
     return bright > 1.5 * reference ? bright : reference;
   }
 
@@ -332,6 +403,9 @@ struct VideoReader::State {
                      cv::Size dst_size = {}) {
     if (dst_size.empty()) dst_size = {w, h};
     const bool reduce = dst_size != cv::Size(w, h);
+    if (!info.encoding.IsSdrBt709() && !to_sdr) {
+      to_sdr.emplace(info.encoding, HdrWhite());
+    }
     // SDR BT.709 straight to 8 bits; anything else through 16 bits to SDR.
     *context = sws_getCachedContext(
         *context, w, h, static_cast<AVPixelFormat>(frame->format),
@@ -489,9 +563,6 @@ VideoReader::VideoReader(const std::string& path,
     std::nth_element(intervals.begin(),
                      intervals.begin() + intervals.size() / 2, intervals.end());
     info.frame_interval_s = intervals[intervals.size() / 2];
-  }
-  if (!info.encoding.IsSdrBt709()) {
-    s.to_sdr.emplace(info.encoding, s.HdrWhite());
   }
 }
 

@@ -378,6 +378,43 @@ TEST(VideoIo, DeepLumaKeepsFractionsOfAnEightBitLevel) {
   EXPECT_NEAR(left, 16 + 100.0 * 219 / 255, 0.5);
 }
 
+// Deep luma of a rotated video (a portrait phone video) is the stored luma
+// turned exactly, whatever the rotation and sizes not a multiple of the
+// 8 x 8 blocks it is turned in.
+TEST(VideoIo, DeepLumaOfRotatedVideoIsTurnedExactly) {
+  cv::Mat frame(246, 326, CV_16UC3);
+  cv::RNG rng(5);
+  rng.fill(frame, cv::RNG::UNIFORM, 0, 65536);
+  const auto luma_of = [&](int rotation) {
+    VideoWriterOptions options;
+    options.bit_depth = 10;
+    options.crf = 0;  // lossless
+    options.rotation_deg = rotation;
+    const std::string path =
+        (fs::temp_directory_path() / "softbench_io_deep_rotated.mp4").string();
+    {
+      VideoWriter writer(path, 326, 246, options);
+      writer.Write(frame);
+      writer.Close();
+    }
+    VideoReader reader(path);
+    VideoFrame decoded;
+    EXPECT_TRUE(reader.Read(&decoded));
+    return decoded.luma.clone();
+  };
+  const cv::Mat upright = luma_of(0);
+  ASSERT_EQ(upright.type(), CV_16UC1);
+  for (const auto& [rotation, code] :
+       {std::pair{90, cv::ROTATE_90_CLOCKWISE}, std::pair{180, cv::ROTATE_180},
+        std::pair{270, cv::ROTATE_90_COUNTERCLOCKWISE}}) {
+    cv::Mat expected;
+    cv::rotate(upright, expected, code);
+    const cv::Mat turned = luma_of(rotation);
+    ASSERT_EQ(turned.size(), expected.size()) << rotation;
+    EXPECT_EQ(cv::norm(turned, expected, cv::NORM_INF), 0.0) << rotation;
+  }
+}
+
 // A variable frame rate as phones write it: every frame's time is its
 // timestamp, frames are numbered in order, and seeking finds the nearest.
 TEST(VideoIo, VariableFrameRateTimesComeFromTheTimestamps) {
