@@ -63,6 +63,17 @@ cv::Mat PatchMask(const cv::Mat& static_mask, const cv::Size& size,
   return mask;
 }
 
+// Patches are spread one per cell of a 1080p frame's size: a larger frame
+// gets larger cells (the same structure spans more pixels), so a 4K frame
+// follows as many patches as a 1080p one, each to the same fraction of a
+// millimetre.
+StaticPatchOptions ScaledToFrame(StaticPatchOptions options,
+                                 const cv::Size& size) {
+  options.cell_px *= std::max(
+      1.0, std::sqrt(static_cast<double>(size.area()) / (1920 * 1080)));
+  return options;
+}
+
 }  // namespace
 
 BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
@@ -75,7 +86,7 @@ BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
       tag_(tag),
       patches_(reference_luma,
                PatchMask(static_mask, reference_luma.size(), tag),
-               options.patches) {
+               ScaledToFrame(options.patches, reference_luma.size())) {
   if (tag_) {
     last_corners_ = tag_->corners;
     for (int c = 0; c < 4; ++c) {

@@ -13,7 +13,7 @@ struct StaticPatchOptions {
   // Patches are taken one per cell of this side [px] at most (the strongest
   // structure in it), so they spread over the frame: together they give the
   // camera's motion a lever of the whole image, where one tag gives a few
-  // per cent of it.
+  // per cent of it. (BenchRegistration scales it for frames above 1080p.)
   double cell_px = 48.0;
   int max_patches = 160;
   // Half side of a patch [px] (a 17 x 17 template).
