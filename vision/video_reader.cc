@@ -162,7 +162,6 @@ struct VideoReader::State {
   cv::Mat luma_upright;  // reused: rotated or shifted luma
   // Colour of anything but SDR BT.709 goes through SDR (color_transfer.h).
   std::optional<SdrConverter> to_sdr;
-  int64_t frames_returned = 0;   // since open or the last seek
   int64_t last_good_index = -1;  // for truncation messages
   double last_good_time = 0.0;
   int64_t last_good_pts = AV_NOPTS_VALUE;
@@ -253,7 +252,6 @@ struct VideoReader::State {
                         : frame->pts;
     last_good_index = IndexOf(last_good_pts, last_good_time);
     CheckFormat();
-    ++frames_returned;
     return true;
   }
 
@@ -314,7 +312,6 @@ struct VideoReader::State {
     av_seek_frame(format, stream, start_pts, AVSEEK_FLAG_BACKWARD);
     avcodec_flush_buffers(codec);
     flushing = finished = false;
-    frames_returned = 0;
     last_good_index = -1;
     last_good_time = 0.0;
     last_good_pts = AV_NOPTS_VALUE;
