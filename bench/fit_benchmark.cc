@@ -7,14 +7,14 @@
 
 #include <iostream>
 
-#include "pipelines/fit_command.h"
+#include "pipelines/characterisation/fit_analysis.h"
 
 namespace {
 
 void BM_FitFromCsv(benchmark::State& state, const std::string& manifest) {
-  softbench::FitCommandOptions options;
+  softbench::FitAnalysisOptions options;
   options.input_path = manifest;
-  options.quiet = true;
+  options.progress = false;
   int64_t rows = 0;
   for (auto _ : state) {
     const softbench::FitRun run = softbench::RunFitAnalysis(options);

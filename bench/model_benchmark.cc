@@ -7,7 +7,7 @@
 
 #include "model/units.h"
 #include "model/workspace.h"
-#include "pipelines/mechanism_io.h"
+#include "pipelines/formats/mechanism_io.h"
 
 namespace softbench {
 namespace {

@@ -8,8 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "pipelines/scene_renderer.h"
-#include "pipelines/video_measurement.h"
+#include "pipelines/measurement/plan_camera.h"
+#include "pipelines/measurement/video_measurement.h"
+#include "pipelines/synthetic/scene_renderer.h"
 #include "vision/frame_source.h"
 #include "vision/head_tracker.h"
 #include "vision/video_reader.h"
@@ -76,14 +77,12 @@ void BM_Measure(benchmark::State& state, std::string path, bool full_frame) {
   const TestPlan plan = LoadTestPlan(plan_path);
   VideoReaderOptions options;
   options.want_bgr = false;
-  CameraIntrinsics intrinsics;
-  {
-    VideoReader probe(path, options);
-    intrinsics =
-        PlanIntrinsics(plan, probe.info().width_px, probe.info().height_px);
-  }
+  VideoReader probe(path, options);
+  const CameraIntrinsics intrinsics =
+      PlanIntrinsics(plan, probe.info().width_px, probe.info().height_px);
   std::string source;
-  const PlaneMapping mapping = PlanMapping(plan, path, intrinsics, 3, &source);
+  const PlaneMapping mapping =
+      PlanMapping(plan, &probe, intrinsics, 3, &source);
   HeadTrackerOptions tracker_options;
   tracker_options.full_frame_every_frame = full_frame;
   int64_t frames = 0, missing = 0;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "calibration/ceres_force_fit.h"
+#include "util/check.h"
 
 namespace softbench {
 namespace {
@@ -208,172 +209,239 @@ void EvaluateFit(const ForceModel& model, const std::vector<ForceTest>& tests,
   }
 }
 
+namespace {
+
+// The normal equations restricted to a model's free constants, the fixed
+// constants' contribution moved to the right-hand side, with the column
+// scaling that makes their conditioning meaningful.
+struct FreeSystem {
+  std::vector<int> free;
+  Eigen::Vector4d fixed_values;
+  Eigen::MatrixXd normal;
+  Eigen::VectorXd rhs;
+  Eigen::VectorXd scale;   // 1 / sqrt(diag(normal))
+  Eigen::MatrixXd scaled;  // scale normal scale
+
+  int size() const { return static_cast<int>(free.size()); }
+};
+
+FreeSystem RestrictToFree(const FitModel& fit_model,
+                          const NormalEquations& equations) {
+  FreeSystem system;
+  system.free = FreeIndices(fit_model);
+  system.fixed_values = ConstantsVector(fit_model.model.constants);
+  system.normal = Restrict(equations.normal, system.free);
+  const int k = system.size();
+  system.rhs.resize(k);
+  for (int i = 0; i < k; ++i) {
+    system.rhs[i] = equations.rhs[system.free[i]];
+    for (int j = 0; j < kNumFitConstants; ++j) {
+      if (!fit_model.free[j]) {
+        system.rhs[i] -=
+            equations.normal(system.free[i], j) * system.fixed_values[j];
+      }
+    }
+  }
+  system.scale = system.normal.diagonal().cwiseSqrt().cwiseInverse();
+  system.scaled =
+      system.scale.asDiagonal() * system.normal * system.scale.asDiagonal();
+  return system;
+}
+
+// Identifiability: a constant whose column is zero over every row cannot be
+// fitted at all; near-dependent columns make the answer meaningless. Sets
+// the condition number; returns why the tests cannot give the constants.
+std::optional<std::string> WhyNotIdentifiable(const FreeSystem& system,
+                                              const ForceFitOptions& options,
+                                              double* condition_number) {
+  const int k = system.size();
+  const double largest = system.normal.diagonal().maxCoeff();
+  for (int i = 0; i < k; ++i) {
+    if (!(system.normal(i, i) > 1e-12 * largest)) {
+      return fmt::format("{} cannot be fitted from these tests: {}",
+                         kFitConstantNames[system.free[i]],
+                         kIdentifiabilityHint[system.free[i]]);
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(system.scaled);
+  *condition_number =
+      eigen.eigenvalues().maxCoeff() / eigen.eigenvalues().minCoeff();
+  if (*condition_number <= options.max_condition_number) return std::nullopt;
+  const Eigen::VectorXd weakest = eigen.eigenvectors().col(0);
+  std::string names;
+  for (int i = 0; i < k; ++i) {
+    if (std::abs(weakest[i]) > 0.3) {
+      names += (names.empty() ? "" : " and ") +
+               std::string(kFitConstantNames[system.free[i]]);
+    }
+  }
+  return fmt::format(
+      "ill-conditioned (condition number {:.3g}): these tests cannot tell {} "
+      "apart; add tests that vary dL and theta independently",
+      *condition_number, names);
+}
+
+// Each test's design restricted to the free constants, the fixed ones'
+// part kept aside.
+std::vector<FreeDesign> FreeDesigns(const FitModel& fit_model,
+                                    const std::vector<ForceTest>& tests,
+                                    const FreeSystem& system) {
+  std::vector<FreeDesign> designs;
+  for (const ForceTest& test : tests) {
+    const TestDesign design =
+        DesignOfTest(fit_model.model, test.delta_length_mm(), test.theta_rad());
+    FreeDesign& restricted = designs.emplace_back();
+    restricted.u.resize(2, system.size());
+    restricted.v.resize(2, system.size());
+    for (int i = 0; i < system.size(); ++i) {
+      restricted.u.col(i) = design.u.col(system.free[i]);
+      restricted.v.col(i) = design.v.col(system.free[i]);
+    }
+    for (int j = 0; j < kNumFitConstants; ++j) {
+      if (fit_model.free[j]) continue;
+      restricted.fixed_u += design.u.col(j) * system.fixed_values[j];
+      restricted.fixed_v += design.v.col(j) * system.fixed_values[j];
+    }
+  }
+  return designs;
+}
+
+// The free constants: the closed form, unless a robust loss or the row-wise
+// cross-check asks for Ceres on the rows, or the closed form leaves the
+// bounds (then Ceres on the normal equations). Sets the method; returns why
+// not on failure.
+std::optional<std::string> SolveFree(const FitModel& fit_model,
+                                     const std::vector<ForceTest>& tests,
+                                     const std::vector<ForceRow>& rows,
+                                     const FreeSystem& system,
+                                     const ForceFitOptions& options,
+                                     Eigen::VectorXd* values,
+                                     ForceFitSummary* summary) {
+  const Eigen::VectorXd closed_form =
+      system.scale.asDiagonal() *
+      system.scaled.ldlt().solve(system.scale.asDiagonal() * system.rhs);
+  const Eigen::VectorXd lower = LowerBounds(system.free, options);
+  *values = closed_form;
+  summary->method = "closed form (normal equations)";
+  const bool robust = options.loss != FitLoss::kLeastSquares;
+  CeresFitResult result;
+  if (robust || options.rows_with_ceres) {
+    if (rows.empty()) {
+      return "a robust or row-wise fit needs rows kept in memory "
+             "(keep_every_nth_row > 0)";
+    }
+    // Algorithm 1 starts from [1 1 1 1]; a robust fit starts from the least-
+    // squares answer, which is the right basin for a non-convex loss.
+    result =
+        SolveRows(FreeDesigns(fit_model, tests, system), rows, options, lower,
+                  robust ? closed_form : Eigen::VectorXd::Ones(system.size()));
+    const char* loss_name = options.loss == FitLoss::kHuber    ? "Huber"
+                            : options.loss == FitLoss::kCauchy ? "Cauchy"
+                                                               : "no";
+    summary->method =
+        fmt::format("Ceres on {} rows, {} loss{}", rows.size(), loss_name,
+                    robust ? fmt::format(" (scale {} N)", options.loss_scale_n)
+                           : std::string());
+  } else if ((closed_form.array() < lower.array()).any()) {
+    result = SolveBoundedNormalEquations(system.normal, system.rhs, lower,
+                                         closed_form);
+    summary->method = "Ceres, bounded least squares (normal equations)";
+  } else {
+    return std::nullopt;
+  }
+  if (!result.converged) return result.why_not;
+  *values = result.values;
+  summary->ceres_iterations = result.iterations;
+  return std::nullopt;
+}
+
+// Standard errors with one noise level per direction (axial and shear
+// sensors differ): Cov = N^-1 (sum_d w_d^4 s_d^2 N_d) N^-1.
+void SetStandardErrors(const FreeSystem& system,
+                       const NormalEquations& equations,
+                       const ForceFitOptions& options,
+                       ForceFitSummary* summary) {
+  const int k = system.size();
+  const double dof = static_cast<double>(summary->rows - k);
+  if (dof <= 0) return;
+  const Eigen::MatrixXd inverse =
+      system.scale.asDiagonal() *
+      system.scaled.ldlt().solve(Eigen::MatrixXd(system.scale.asDiagonal()));
+  Eigen::MatrixXd middle = Eigen::MatrixXd::Zero(k, k);
+  const std::array<double, 2> weights = {options.axial_weight,
+                                         options.shear_weight};
+  for (int d = 0; d < 2; ++d) {
+    const double variance = summary->directions[d].rmse_n *
+                            summary->directions[d].rmse_n *
+                            static_cast<double>(summary->rows) / dof;
+    middle += std::pow(weights[d], 4) * variance *
+              Restrict(equations.direction_normal[d], system.free);
+  }
+  const Eigen::MatrixXd covariance = inverse * middle * inverse;
+  for (int i = 0; i < k; ++i) {
+    summary->standard_errors[system.free[i]] = std::sqrt(covariance(i, i));
+  }
+}
+
+// Constants at their bounds are listed (no standard error); one whose
+// standard error is too large for its value is not determined by the tests.
+std::optional<std::string> WhyNotDetermined(const FreeSystem& system,
+                                            const Eigen::VectorXd& values,
+                                            const ForceFitOptions& options,
+                                            ForceFitSummary* summary) {
+  const Eigen::VectorXd lower = LowerBounds(system.free, options);
+  for (int i = 0; i < system.size(); ++i) {
+    const int index = system.free[i];
+    if (values[i] <= lower[i]) {
+      summary->at_bounds.push_back(kFitConstantNames[index]);
+      summary->standard_errors[index] = NAN;
+    } else if (summary->standard_errors[index] >
+               options.max_relative_standard_error * std::abs(values[i])) {
+      return fmt::format(
+          "{} is not determined by these tests: {:.4g} +- {:.3g} (standard "
+          "error above {:.0f} % of the value): {}",
+          kFitConstantNames[index], values[i], summary->standard_errors[index],
+          100.0 * options.max_relative_standard_error,
+          kIdentifiabilityHint[index]);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 ForceFitSummary FitForceModel(const FitModel& fit_model,
                               const std::vector<ForceTest>& tests,
                               const std::vector<ForceRow>& rows,
                               const ForceFitOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
   ForceFitSummary summary;
   summary.model_name = fit_model.name;
-  if (const std::optional<std::string> problem = options.Check()) {
-    summary.why_not = "fit options: " + *problem;
-    return summary;
-  }
   const NormalEquations equations =
       AccumulateNormalEquations(fit_model.model, tests, options);
-  const std::vector<int> free = FreeIndices(fit_model);
-  const int k = static_cast<int>(free.size());
-  const Eigen::Vector4d fixed_values =
-      ConstantsVector(fit_model.model.constants);
-  Eigen::MatrixXd normal = Restrict(equations.normal, free);
-  Eigen::VectorXd rhs(k);
-  for (int i = 0; i < k; ++i) {
-    // Move the fixed constants' contribution to the right-hand side.
-    rhs[i] = equations.rhs[free[i]];
-    for (int j = 0; j < kNumFitConstants; ++j) {
-      if (!fit_model.free[j]) {
-        rhs[i] -= equations.normal(free[i], j) * fixed_values[j];
-      }
-    }
-  }
-
-  // Identifiability: a constant whose column is zero over every row cannot
-  // be fitted at all; near-dependent columns make the answer meaningless.
-  const double largest = normal.diagonal().maxCoeff();
-  for (int i = 0; i < k; ++i) {
-    if (!(normal(i, i) > 1e-12 * largest)) {
-      summary.why_not = fmt::format("{} cannot be fitted from these tests: {}",
-                                    kFitConstantNames[free[i]],
-                                    kIdentifiabilityHint[free[i]]);
-      return summary;
-    }
-  }
-  const Eigen::VectorXd scale = normal.diagonal().cwiseSqrt().cwiseInverse();
-  const Eigen::MatrixXd scaled =
-      scale.asDiagonal() * normal * scale.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scaled);
-  summary.condition_number =
-      eigen.eigenvalues().maxCoeff() / eigen.eigenvalues().minCoeff();
-  if (!(summary.condition_number <= options.max_condition_number)) {
-    const Eigen::VectorXd weakest = eigen.eigenvectors().col(0);
-    std::string names;
-    for (int i = 0; i < k; ++i) {
-      if (std::abs(weakest[i]) > 0.3) {
-        names += (names.empty() ? "" : " and ") +
-                 std::string(kFitConstantNames[free[i]]);
-      }
-    }
-    summary.why_not = fmt::format(
-        "ill-conditioned (condition number {:.3g}): these tests cannot tell "
-        "{} apart; add tests that vary dL and theta independently",
-        summary.condition_number, names);
+  const FreeSystem system = RestrictToFree(fit_model, equations);
+  if (auto why =
+          WhyNotIdentifiable(system, options, &summary.condition_number)) {
+    summary.why_not = *why;
     return summary;
   }
-  const Eigen::VectorXd closed_form =
-      scale.asDiagonal() * scaled.ldlt().solve(scale.asDiagonal() * rhs);
-
-  const Eigen::VectorXd lower = LowerBounds(free, options);
-  Eigen::VectorXd values = closed_form;
-  summary.method = "closed form (normal equations)";
-  const bool robust = options.loss != FitLoss::kLeastSquares;
-  if (robust || options.rows_with_ceres) {
-    if (rows.empty()) {
-      summary.why_not =
-          "a robust or row-wise fit needs rows kept in memory "
-          "(keep_every_nth_row > 0)";
-      return summary;
-    }
-    std::vector<FreeDesign> designs;
-    for (const ForceTest& test : tests) {
-      const TestDesign design = DesignOfTest(
-          fit_model.model, test.delta_length_mm(), test.theta_rad());
-      FreeDesign& restricted = designs.emplace_back();
-      restricted.u.resize(2, k);
-      restricted.v.resize(2, k);
-      for (int i = 0; i < k; ++i) {
-        restricted.u.col(i) = design.u.col(free[i]);
-        restricted.v.col(i) = design.v.col(free[i]);
-      }
-      for (int j = 0; j < kNumFitConstants; ++j) {
-        if (fit_model.free[j]) continue;
-        restricted.fixed_u += design.u.col(j) * fixed_values[j];
-        restricted.fixed_v += design.v.col(j) * fixed_values[j];
-      }
-    }
-    // Algorithm 1 starts from [1 1 1 1]; a robust fit starts from the least-
-    // squares answer, which is the right basin for a non-convex loss.
-    const Eigen::VectorXd start =
-        robust ? closed_form : Eigen::VectorXd::Ones(k);
-    const CeresFitResult result =
-        SolveRows(designs, rows, options, lower, start);
-    if (!result.converged) {
-      summary.why_not = result.why_not;
-      return summary;
-    }
-    values = result.values;
-    summary.ceres_iterations = result.iterations;
-    const char* loss_name = options.loss == FitLoss::kHuber    ? "Huber"
-                            : options.loss == FitLoss::kCauchy ? "Cauchy"
-                                                               : "no";
-    summary.method =
-        fmt::format("Ceres on {} rows, {} loss{}", rows.size(), loss_name,
-                    robust ? fmt::format(" (scale {} N)", options.loss_scale_n)
-                           : std::string());
-  } else if ((values.array() < lower.array()).any()) {
-    const CeresFitResult result =
-        SolveBoundedNormalEquations(normal, rhs, lower, closed_form);
-    if (!result.converged) {
-      summary.why_not = result.why_not;
-      return summary;
-    }
-    values = result.values;
-    summary.ceres_iterations = result.iterations;
-    summary.method = "Ceres, bounded least squares (normal equations)";
+  Eigen::VectorXd values;
+  if (auto why = SolveFree(fit_model, tests, rows, system, options, &values,
+                           &summary)) {
+    summary.why_not = *why;
+    return summary;
   }
-
-  Eigen::Vector4d all_values = fixed_values;
-  for (int i = 0; i < k; ++i) all_values[free[i]] = values[i];
+  Eigen::Vector4d all_values = system.fixed_values;
+  for (int i = 0; i < system.size(); ++i)
+    all_values[system.free[i]] = values[i];
   ForceModel fitted = fit_model.model;
   fitted.constants = ConstantsFromVector(all_values, fit_model.model.constants);
   summary.constants = fitted.constants;
   EvaluateFit(fitted, tests, &summary);
-
-  // Standard errors with one noise level per direction (axial and shear
-  // sensors differ): Cov = N^-1 (sum_d w_d^4 s_d^2 N_d) N^-1.
-  const double dof = static_cast<double>(summary.rows - k);
-  if (dof > 0) {
-    const Eigen::MatrixXd inverse =
-        scale.asDiagonal() *
-        scaled.ldlt().solve(Eigen::MatrixXd(scale.asDiagonal()));
-    Eigen::MatrixXd middle = Eigen::MatrixXd::Zero(k, k);
-    const std::array<double, 2> weights = {options.axial_weight,
-                                           options.shear_weight};
-    for (int d = 0; d < 2; ++d) {
-      const double variance = summary.directions[d].rmse_n *
-                              summary.directions[d].rmse_n *
-                              static_cast<double>(summary.rows) / dof;
-      middle += std::pow(weights[d], 4) * variance *
-                Restrict(equations.direction_normal[d], free);
-    }
-    const Eigen::MatrixXd covariance = inverse * middle * inverse;
-    for (int i = 0; i < k; ++i) {
-      summary.standard_errors[free[i]] = std::sqrt(covariance(i, i));
-    }
-  }
-  for (int i = 0; i < k; ++i) {
-    const int index = free[i];
-    if (values[i] <= lower[i]) {
-      summary.at_bounds.push_back(kFitConstantNames[index]);
-      summary.standard_errors[index] = NAN;
-    } else if (summary.standard_errors[index] >
-               options.max_relative_standard_error * std::abs(values[i])) {
-      summary.why_not = fmt::format(
-          "{} is not determined by these tests: {:.4g} +- {:.3g} (standard "
-          "error above {:.0f} % of the value): {}",
-          kFitConstantNames[index], values[i], summary.standard_errors[index],
-          100.0 * options.max_relative_standard_error,
-          kIdentifiabilityHint[index]);
-      return summary;
-    }
+  SetStandardErrors(system, equations, options, &summary);
+  if (auto why = WhyNotDetermined(system, values, options, &summary)) {
+    summary.why_not = *why;
+    return summary;
   }
   summary.ok = true;
   return summary;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "model/units.h"
+#include "util/check.h"
 #include "util/csv.h"
 #include "util/input_error.h"
 
@@ -172,9 +173,7 @@ void FinishTest(const std::string& path, const ForceLogReadOptions& options,
 }
 
 void CheckOptions(const ForceLogReadOptions& options) {
-  if (const std::optional<std::string> problem = options.Check()) {
-    throw InputError("force log options: " + *problem);
-  }
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
 }
 
 }  // namespace

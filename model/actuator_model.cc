@@ -1,6 +1,9 @@
 #include "model/actuator_model.h"
 
 #include <cmath>
+#include <vector>
+
+#include "model/names.h"
 
 namespace softbench {
 
@@ -52,11 +55,25 @@ std::string_view VariantName(const ForceModel& model) {
   return "small-angle";
 }
 
+std::span<const ModelVariant> ModelVariants() {
+  static constexpr ModelVariant kVariants[] = {
+      {"small-angle", &ForceModel::SmallAngle},
+      {"full-trig", &ForceModel::FullTrigonometric},
+      {"variable-arm", &ForceModel::VariableMomentArm}};
+  return kVariants;
+}
+
+std::string ModelVariantNames() {
+  std::vector<std::string_view> names;
+  for (const ModelVariant& v : ModelVariants()) names.push_back(v.name);
+  return JoinNames(names);
+}
+
 std::optional<ForceModel> ForceModelFromVariantName(
     std::string_view name, const ActuatorConstants& constants) {
-  if (name == "small-angle") return ForceModel::SmallAngle(constants);
-  if (name == "full-trig") return ForceModel::FullTrigonometric(constants);
-  if (name == "variable-arm") return ForceModel::VariableMomentArm(constants);
+  for (const ModelVariant& v : ModelVariants()) {
+    if (v.name == name) return v.make(constants);
+  }
   return std::nullopt;
 }
 

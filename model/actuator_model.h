@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -63,9 +64,19 @@ struct ForceModel {
   static ForceModel PressurizedSpring(const ActuatorConstants& constants);
 };
 
-// Names used on the command line and in YAML files.
+// The axial-shear model's variants by the names used on the command line, in
+// YAML files and in reports: the one list every parser, help text and message
+// uses.
+struct ModelVariant {
+  std::string_view name;
+  ForceModel (*make)(const ActuatorConstants& constants);
+};
+std::span<const ModelVariant> ModelVariants();
+// "small-angle, full-trig or variable-arm", for help texts and errors.
+std::string ModelVariantNames();
+
 std::string_view VariantName(const ForceModel& model);
-// Parses "small-angle", "full-trig" or "variable-arm"; nullopt otherwise.
+// The variant called `name` with `constants`; nullopt for any other name.
 std::optional<ForceModel> ForceModelFromVariantName(
     std::string_view name, const ActuatorConstants& constants);
 

@@ -2,18 +2,20 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <utility>
+
+#include "util/check.h"
 
 namespace softbench {
 
 EquilibriumProblem::EquilibriumProblem(const Mechanism& mechanism,
                                        const ForceModel& model)
     : mechanism_(mechanism), model_(model) {
-  assert(!mechanism_.Check() && !model_.constants.Check());
+  SOFTBENCH_CHECK(!mechanism_.Check() && !model_.constants.Check())
+      << "EquilibriumSolver needs a checked mechanism and constants";
   links_.reserve(mechanism_.actuators.size());
   for (const Actuator& actuator : mechanism_.actuators) {
     const bool on_head = actuator.anchor.kind == AnchorRef::Kind::kHead;
@@ -42,7 +44,8 @@ bool EquilibriumProblem::Evaluate(const Eigen::VectorXd& pressures_mpa,
                                   Eigen::MatrixXd* jacobian_x,
                                   Eigen::MatrixXd* jacobian_pressure) const {
   const int n = NumUnknowns();
-  assert(x.size() == n && pressures_mpa.size() == NumActuators());
+  SOFTBENCH_CHECK(x.size() == n && pressures_mpa.size() == NumActuators())
+      << "state or pressures of the wrong size";
   residual_n->setZero(n);
   if (jacobian_x) jacobian_x->setZero(n, n);
   if (jacobian_pressure) jacobian_pressure->setZero(n, NumActuators());
@@ -194,7 +197,7 @@ EquilibriumSolver::EquilibriumSolver(const EquilibriumProblem& problem,
       curvature_(problem.NumUnknowns(), problem.NumActuators()),
       has_curvature_(problem.NumActuators(), false),
       lu_(problem.NumUnknowns()) {
-  assert(!options_.Check());
+  SOFTBENCH_CHECK(!options_.Check()) << *options_.Check();
 }
 
 bool EquilibriumSolver::TryDampedStep(const Eigen::VectorXd& pressures_mpa,

@@ -3,9 +3,10 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/LU>
-#include <cassert>
 #include <cmath>
 #include <memory>
+
+#include "util/check.h"
 
 namespace softbench {
 namespace {
@@ -79,7 +80,10 @@ std::optional<std::string> InverseOptions::Check() const {
 InverseResult SolvePressuresForTarget(const EquilibriumProblem& problem,
                                       const Eigen::VectorXd& target_mm,
                                       const InverseOptions& options) {
-  assert(!options.Check() && target_mm.size() == problem.NumUnknowns());
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(target_mm.size() == problem.NumUnknowns())
+      << "target of " << target_mm.size() << " values for "
+      << problem.NumUnknowns() << " unknowns";
   const int m = problem.NumActuators();
 
   ceres::Solver::Options solver_options;

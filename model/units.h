@@ -2,6 +2,13 @@
 #define SOFTBENCH_MODEL_UNITS_H_
 
 #include <numbers>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "model/names.h"
 
 namespace softbench {
 
@@ -9,6 +16,31 @@ namespace softbench {
 // Conversions of pressure units into MPa (model.md: 1 psi = 6.894757 kPa).
 inline constexpr double kMpaPerPsi = 0.006894757;
 inline constexpr double kMpaPerKpa = 0.001;
+
+// The pressure units files and options may state, by the names they use: the
+// one list every parser, help text and message uses. A pressure is never
+// assumed to be in one of them.
+struct PressureUnit {
+  std::string_view name;
+  double mpa_per_unit;
+};
+inline constexpr PressureUnit kPressureUnits[] = {
+    {"psi", kMpaPerPsi}, {"kpa", kMpaPerKpa}, {"mpa", 1.0}};
+
+// MPa per unit of `name`; nullopt for an unknown name.
+inline std::optional<double> MpaPerPressureUnit(std::string_view name) {
+  for (const PressureUnit& unit : kPressureUnits) {
+    if (unit.name == name) return unit.mpa_per_unit;
+  }
+  return std::nullopt;
+}
+
+// "psi, kpa or mpa", for help texts and errors.
+inline std::string PressureUnitNames() {
+  std::vector<std::string_view> names;
+  for (const PressureUnit& unit : kPressureUnits) names.push_back(unit.name);
+  return JoinNames(names);
+}
 
 inline constexpr double DegToRad(double degrees) {
   return degrees * std::numbers::pi / 180.0;

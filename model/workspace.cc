@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cassert>
 #include <cmath>
 #include <thread>
+
+#include "util/check.h"
 
 namespace softbench {
 namespace {
@@ -57,7 +58,7 @@ constexpr long long kRunLength = 128;
 }  // namespace
 
 std::vector<double> EvenPressureLevels(double max_mpa, int num_intervals) {
-  assert(num_intervals >= 0);
+  SOFTBENCH_CHECK(num_intervals >= 0) << num_intervals;
   if (num_intervals == 0) return {0.0};
   std::vector<double> levels;
   for (int i = 0; i <= num_intervals; ++i) {
@@ -102,7 +103,7 @@ WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
 
 void ComputeWorkspace(const EquilibriumProblem& problem,
                       const WorkspaceOptions& options, WorkspaceMap* map_out) {
-  assert(!options.Check());
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
   const int radix = static_cast<int>(options.pressure_levels_mpa.size());
   const int num_actuators = problem.NumActuators();
   const int n = problem.NumUnknowns();

@@ -76,10 +76,6 @@ void AtomicFileWriter::Commit() {
 }
 
 void WriteFileAtomically(const std::string& path, std::string_view contents) {
-  if (path == "-") {
-    std::cout << contents << std::flush;
-    return;
-  }
   AtomicFileWriter writer(path);
   writer.Append(contents);
   writer.Commit();

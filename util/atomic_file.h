@@ -29,8 +29,7 @@ class AtomicFileWriter {
   int fd_ = -1;
 };
 
-// The whole of `contents` through an AtomicFileWriter. "-" writes to
-// standard output.
+// The whole of `contents` through an AtomicFileWriter.
 void WriteFileAtomically(const std::string& path, std::string_view contents);
 
 // A report directory written atomically: files go into a fresh staging

@@ -2,9 +2,10 @@
 #define SOFTBENCH_UTIL_STATISTICS_H_
 
 #include <algorithm>
-#include <cassert>
 #include <cstddef>
 #include <vector>
+
+#include "util/check.h"
 
 namespace softbench {
 
@@ -13,7 +14,8 @@ namespace softbench {
 // for an even count). Takes the values by copy and partially sorts them.
 template <typename T>
 T Quantile(std::vector<T> values, double q) {
-  assert(!values.empty() && q >= 0.0 && q <= 1.0);
+  SOFTBENCH_CHECK(!values.empty() && q >= 0.0 && q <= 1.0)
+      << values.size() << " values, q = " << q;
   const size_t k = static_cast<size_t>(q * (values.size() - 1) + 0.5);
   std::nth_element(values.begin(), values.begin() + k, values.end());
   return values[k];

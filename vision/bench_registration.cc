@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "util/check.h"
 #include "vision/frame_source.h"
 
 namespace softbench {
@@ -42,9 +43,7 @@ double LargestMove(const std::array<Eigen::Vector2d, 4>& a,
 
 const BenchRegistrationOptions& Checked(const BenchRegistrationOptions& o) {
   // A programmer error: options come from code, not from users.
-  if (auto problem = o.Check()) {
-    throw std::logic_error("BenchRegistration: " + *problem);
-  }
+  SOFTBENCH_CHECK(!o.Check()) << *o.Check();
   return o;
 }
 

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "util/check.h"
+
 namespace softbench {
 
 std::optional<std::string> CameraPathOptions::Check() const {
@@ -125,9 +127,7 @@ std::vector<CameraMotion> SmoothCameraPath(const CameraIntrinsics& intrinsics,
                                            const std::vector<bool>& valid,
                                            double max_gap_s,
                                            const CameraPathOptions& options) {
-  if (auto problem = options.Check()) {
-    throw std::logic_error("SmoothCameraPath: " + *problem);
-  }
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
   std::vector<CameraMotion> out = raw;
   std::vector<int> stretch;
   const auto flush = [&] {

@@ -22,39 +22,6 @@ bool HsvRange::Contains(const cv::Vec3b& hsv) const {
          hsv[2] >= value_low && hsv[2] <= value_high;
 }
 
-std::optional<std::string> HsvRange::Check() const {
-  if (hue_low < 0 || hue_low > 179 || hue_high < 0 || hue_high > 179) {
-    return "hue bounds must be 0..179 (OpenCV units; low > high wraps "
-           "through 180)";
-  }
-  if (saturation_low < 0 || saturation_high > 255 ||
-      saturation_low > saturation_high) {
-    return "saturation bounds must satisfy 0 <= low <= high <= 255";
-  }
-  if (value_low < 0 || value_high > 255 || value_low > value_high) {
-    return "value bounds must satisfy 0 <= low <= high <= 255";
-  }
-  return std::nullopt;
-}
-
-// Printed dots are saturated; the resin heads, bellows and table are not
-// (saturation < 70 in the thesis's footage and our renderings), so the
-// saturation floor does most of the separating and hue names the colour.
-std::optional<HsvRange> BuiltinHsvRange(const std::string& color) {
-  if (color == "red") return HsvRange{170, 10, 100, 255, 50, 255};
-  if (color == "green") return HsvRange{40, 85, 90, 255, 40, 255};
-  if (color == "blue") return HsvRange{95, 130, 100, 255, 40, 255};
-  if (color == "yellow") return HsvRange{18, 35, 100, 255, 60, 255};
-  if (color == "magenta") return HsvRange{140, 168, 90, 255, 40, 255};
-  return std::nullopt;
-}
-
-const std::vector<std::string>& BuiltinColorNames() {
-  static const std::vector<std::string> kNames = {"red", "green", "blue",
-                                                  "yellow", "magenta"};
-  return kNames;
-}
-
 std::optional<std::string> SegmentationOptions::Check() const {
   if (!(dot_radius_px >= 1.5)) {
     return fmt::format(

@@ -24,15 +24,7 @@ struct HsvRange {
 
   bool Wraps() const { return hue_low > hue_high; }
   bool Contains(const cv::Vec3b& hsv) const;
-  std::optional<std::string> Check() const;
 };
-
-// The built-in range of a marker colour name (red, green, blue, yellow,
-// magenta); nullopt for any other name.
-std::optional<HsvRange> BuiltinHsvRange(const std::string& color);
-
-// The names BuiltinHsvRange knows, for messages.
-const std::vector<std::string>& BuiltinColorNames();
 
 struct SegmentationOptions {
   // Expected dot radius [px]; sets the structuring element and the area

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "util/check.h"
 #include "vision/luma.h"
 
 namespace softbench {
@@ -27,9 +28,7 @@ std::optional<std::string> StaticPatchOptions::Check() const {
 StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
                              const StaticPatchOptions& options)
     : options_(options) {
-  if (auto problem = options.Check()) {
-    throw std::logic_error("StaticPatches: " + *problem);
-  }
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
   const int h = options.half_size_px, side = 2 * h + 1;
   const cv::Mat image = LumaAsFloat(luma);
   // The structure tensor summed over a patch, at every pixel.

@@ -4,10 +4,10 @@
 #include <apriltag/tag36h11.h>
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "util/check.h"
 #include "vision/luma.h"
 
 namespace softbench {
@@ -143,7 +143,7 @@ struct TagDetector::Apriltag {
 
 TagDetector::TagDetector(const TagDetectorOptions& options)
     : options_(options), apriltag_(std::make_unique<Apriltag>()) {
-  assert(!options.Check());
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
   // Up to one corrected bit error: the two-bit table costs ~0.1 s to build,
   // and a tag big enough to measure by reads cleanly.
   apriltag_detector_add_family_bits(apriltag_->detector, apriltag_->family, 1);

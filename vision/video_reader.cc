@@ -162,7 +162,8 @@ struct VideoReader::State {
   cv::Mat luma_upright;  // reused: rotated or shifted luma
   // Colour of anything but SDR BT.709 goes through SDR (color_transfer.h).
   std::optional<SdrConverter> to_sdr;
-  int64_t last_good_index = -1;  // for truncation messages
+  std::optional<double> hdr_white;  // HdrWhite(), once measured
+  int64_t last_good_index = -1;     // for truncation messages
   double last_good_time = 0.0;
   int64_t last_good_pts = AV_NOPTS_VALUE;
   // While seeking: packets presented before this are decoded only when
@@ -345,18 +346,10 @@ struct VideoReader::State {
   // The level HDR footage shows as SDR white: BT.2408's reference white, or
   // the brightest 1 % of the first frame's luma when that is clearly (1.5
   // times) brighter, so footage graded with its white at the top of the
-  // range is not clipped. One value for the whole video, from frame 0 (read
-  // by a reader of its own, so this one's position is kept); measured only
-  // when colour is first asked for.
-  double HdrWhite() const {
+  // range is not clipped. One value for the whole video, from frame 0.
+  double HdrWhiteOf(const cv::Mat& first_luma) const {
     const double reference = ReferenceWhiteLinear(info.encoding.transfer);
-    VideoReaderOptions luma_only;
-    luma_only.want_bgr = false;
-    luma_only.threads = 1;
-    VideoReader first(path, luma_only);
-    VideoFrame frame;
-    if (!first.Read(&frame)) return reference;
-    cv::Mat luma = frame.luma;
+    cv::Mat luma = first_luma;
     if (luma.depth() == CV_8U) luma.convertTo(luma, CV_16U, 256);
     std::vector<int> histogram(1024, 0);
     for (int v = 0; v < luma.rows; ++v) {
@@ -376,10 +369,29 @@ struct VideoReader::State {
     return bright > 1.5 * reference ? bright : reference;
   }
 
+  // The HDR white, measured when this reader decoded frame 0 (a reader that
+  // starts at the beginning: the video is opened once); else frame 0 is
+  // read by a reader of its own, so this one's position is kept.
+  double HdrWhite() {
+    if (hdr_white) return *hdr_white;
+    VideoReaderOptions luma_only;
+    luma_only.want_bgr = false;
+    luma_only.threads = 1;
+    VideoReader first(path, luma_only);
+    VideoFrame frame;
+    hdr_white = first.Read(&frame)
+                    ? HdrWhiteOf(frame.luma)
+                    : ReferenceWhiteLinear(info.encoding.transfer);
+    return *hdr_white;
+  }
+
   void Convert(VideoFrame* out) {
     out->time_s = last_good_time;
     out->index = last_good_index;
     const int w = frame->width, h = frame->height;
+    if (last_good_index == 0 && !hdr_white && !info.encoding.IsSdrBt709()) {
+      hdr_white = HdrWhiteOf(Luma());
+    }
     if (options.want_luma) {
       out->luma = Luma();  // a view or the reused buffer: no allocation
     } else {

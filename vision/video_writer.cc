@@ -1,7 +1,6 @@
 #include "vision/video_writer.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 
 extern "C" {
@@ -13,6 +12,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "util/check.h"
 #include "util/input_error.h"
 #include "vision/ffmpeg_util.h"
 
@@ -132,7 +132,7 @@ struct VideoWriter::State {
 VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
                          const VideoWriterOptions& options)
     : state_(std::make_unique<State>()) {
-  assert(!options.Check());
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
   State& s = *state_;
   s.path = path;
   s.options = options;
@@ -255,16 +255,17 @@ VideoWriter::~VideoWriter() {
 
 void VideoWriter::Write(const cv::Mat& bgr, double time_s) {
   State& s = *state_;
-  assert(s.open && (bgr.type() == CV_8UC3 || bgr.type() == CV_16UC3) &&
-         bgr.cols == s.codec->width && bgr.rows == s.codec->height);
+  SOFTBENCH_CHECK(s.open && (bgr.type() == CV_8UC3 || bgr.type() == CV_16UC3) &&
+                  bgr.cols == s.codec->width && bgr.rows == s.codec->height)
+      << "Write takes open-writer frames of the video's size, 8 or 16 bit";
   const int err = av_frame_make_writable(s.frame);
   if (err < 0) s.Fail("out of memory", err);
   s.ToFrame(bgr);
   int64_t pts = s.next_pts;
   if (time_s >= 0.0) {
-    assert(s.options.time_base_hz > 0);
+    SOFTBENCH_CHECK(s.options.time_base_hz > 0) << "frame times need a clock";
     pts = std::llround(time_s * s.options.time_base_hz);
-    assert(pts >= s.next_pts);
+    SOFTBENCH_CHECK(pts >= s.next_pts) << "frame times must increase";
   }
   s.frame->pts = pts;
   s.next_pts = pts + (time_s >= 0.0 ? 1 : s.frame_ticks);

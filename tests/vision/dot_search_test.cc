@@ -7,6 +7,9 @@
 namespace softbench {
 namespace {
 
+// The built-in red (formats/dot_colors.cc), which wraps through hue 0.
+const HsvRange kRedRange{170, 10, 100, 255, 50, 255};
+
 const cv::Scalar kHead(214, 217, 220);
 const cv::Scalar kRed(40, 40, 200);
 
@@ -65,7 +68,7 @@ TEST(DotSearch, FindsWhatTheFullResolutionPassFinds) {
                cv::FILLED);
   }
   const ImageFrameSource frame(image);
-  const HsvRange red = *BuiltinHsvRange("red");
+  const HsvRange red = kRedRange;
   const SegmentationOptions options = Options(12.0);
   ASSERT_EQ(DotSearchReduction(12.0, {}), 3);
   const BlobSummary full = SegmentDots(image, red, options, {0, 0});
@@ -82,7 +85,7 @@ TEST(DotSearch, SearchesOnlyItsRegion) {
     cv::circle(image, {x, 150}, 12, kRed, cv::FILLED, cv::LINE_AA);
   }
   const ImageFrameSource frame(image);
-  const HsvRange red = *BuiltinHsvRange("red");
+  const HsvRange red = kRedRange;
   // An odd corner and size; dots cut by the region's edges at x = 101 and
   // x = 280.
   const cv::Rect region(101, 97, 179, 121);
@@ -102,8 +105,8 @@ TEST(DotSearch, SmallDotsAreSearchedAtFullResolution) {
   cv::circle(image, {50, 60}, 5, kRed, cv::FILLED, cv::LINE_AA);
   cv::circle(image, {110, 60}, 5, kRed, cv::FILLED, cv::LINE_AA);
   const BlobSummary blobs =
-      SearchDots(ImageFrameSource(image), cv::Rect(0, 0, 160, 120),
-                 *BuiltinHsvRange("red"), Options(5.0));
+      SearchDots(ImageFrameSource(image), cv::Rect(0, 0, 160, 120), kRedRange,
+                 Options(5.0));
   EXPECT_EQ(blobs.accepted.size(), 2u);
 }
 

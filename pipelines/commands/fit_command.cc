@@ -1,0 +1,170 @@
+#include "pipelines/commands/fit_command.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "model/units.h"
+#include "pipelines/commands/model_selection.h"
+#include "pipelines/formats/constants_file.h"
+#include "pipelines/reports/fit_report.h"
+#include "util/atomic_file.h"
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+FitLoss ParseLoss(const std::string& name) {
+  if (name == "none") return FitLoss::kLeastSquares;
+  if (name == "huber") return FitLoss::kHuber;
+  if (name == "cauchy") return FitLoss::kCauchy;
+  throw InputError("--loss: '" + name + "' is not one of none, huber, cauchy");
+}
+
+// The fitted variant whose constants --output gets; throws InputError for an
+// unknown (or empty) name, listing the known ones.
+const ForceFitSummary& ChosenFit(const FitRun& run, const std::string& name) {
+  for (const ModelVariant& variant : ModelVariants()) {
+    if (variant.name != name) continue;
+    for (const ForceFitSummary& fit : run.fits) {
+      if (fit.model_name == name) return fit;
+    }
+  }
+  throw InputError("--variant: '" + name + "' is not a variant; use " +
+                   ModelVariantNames());
+}
+
+void CheckVariantName(const std::string& name) {
+  for (const ModelVariant& variant : ModelVariants()) {
+    if (variant.name == name) return;
+  }
+  throw InputError("--variant: '" + name + "' is not a variant; use " +
+                   ModelVariantNames());
+}
+
+}  // namespace
+
+void AddFitCommand(CLI::App* command, FitCommandOptions* options) {
+  command
+      ->add_option("input", options->input_path,
+                   "force-log manifest (.yaml) or combined log (.csv)")
+      ->required();
+  command->add_option("--output", options->output_path,
+                      "constants YAML to write (the input of predict, "
+                      "workspace, validate)");
+  command->add_option("--report", options->report_directory,
+                      "report directory (tables, fit.json, report.html)");
+  command
+      ->add_option(
+          "--variant", options->variant,
+          "variant whose constants --output gets: " + ModelVariantNames())
+      ->capture_default_str();
+  command
+      ->add_option("--loss", options->loss,
+                   "none (least squares, exact), huber or cauchy (robust, "
+                   "Ceres)")
+      ->capture_default_str();
+  command
+      ->add_option("--loss-scale", options->loss_scale_n,
+                   "residual [N] where the robust loss turns robust")
+      ->capture_default_str();
+  command
+      ->add_option("--axial-weight", options->axial_weight,
+                   "weight of axial residuals")
+      ->capture_default_str();
+  command
+      ->add_option("--shear-weight", options->shear_weight,
+                   "weight of shear residuals")
+      ->capture_default_str();
+  command
+      ->add_option("--robust-rows", options->robust_rows,
+                   "rows kept in memory for a robust fit")
+      ->capture_default_str();
+  command
+      ->add_option("--natural-length", options->natural_length_mm,
+                   "L0 [mm] of the variable-arm variant (Eq. 3.3)")
+      ->capture_default_str();
+  command
+      ->add_option("--pressure-unit", options->pressure_unit,
+                   "combined CSV without manifest: " + PressureUnitNames())
+      ->capture_default_str();
+  command
+      ->add_option("--axial", options->axial,
+                   "combined CSV without manifest: signed axial column")
+      ->capture_default_str();
+  command
+      ->add_option("--shear", options->shear,
+                   "combined CSV without manifest: signed shear column")
+      ->capture_default_str();
+  command->add_option("--threads", options->threads, "worker threads (0: all)")
+      ->capture_default_str();
+}
+
+FitAnalysisOptions FitAnalysisOptionsFromFlags(const FitCommandOptions& flags) {
+  FitAnalysisOptions options;
+  options.input_path = flags.input_path;
+  options.fit.loss = ParseLoss(flags.loss);
+  options.fit.loss_scale_n = flags.loss_scale_n;
+  options.fit.axial_weight = flags.axial_weight;
+  options.fit.shear_weight = flags.shear_weight;
+  options.robust_rows = flags.robust_rows;
+  options.natural_length_mm = flags.natural_length_mm;
+  options.threads = flags.threads;
+  options.progress = !flags.quiet;
+  ForceLogColumns& columns = options.combined_columns;
+  columns.mpa_per_pressure_unit = MpaPerPressureUnitFlag(flags.pressure_unit);
+  columns.pressure = "pressure_" + flags.pressure_unit;
+  ParseSignedColumn(flags.axial, "--axial", &columns.axial,
+                    &columns.axial_sign);
+  ParseSignedColumn(flags.shear, "--shear", &columns.shear,
+                    &columns.shear_sign);
+  if (const std::optional<std::string> problem = options.Check()) {
+    throw InputError("fit: " + *problem);
+  }
+  return options;
+}
+
+int RunFit(const FitCommandOptions& options, std::ostream& out) {
+  CheckVariantName(options.variant);
+  const FitRun run = RunFitAnalysis(FitAnalysisOptionsFromFlags(options));
+  for (const std::string& warning : run.warnings) spdlog::warn("{}", warning);
+  out << FitTable(run);
+  const ForceFitSummary* chosen = &ChosenFit(run, options.variant);
+  for (const ForceFitSummary& fit : run.fits) {
+    if (!fit.ok) spdlog::warn("{}: {}", fit.model_name, fit.why_not);
+  }
+  if (!options.report_directory.empty()) {
+    WriteFitReport(run, options.report_directory);
+    out << fmt::format("report: {}/report.html\n", options.report_directory);
+  }
+  if (!chosen->ok) {
+    throw InputError(fmt::format("{}: {} constants not written: {}",
+                                 options.input_path, options.variant,
+                                 chosen->why_not));
+  }
+  if (const std::optional<std::string> problem = chosen->constants.Check()) {
+    throw InputError(
+        fmt::format("{}: the fitted {} constants are not "
+                    "physical ({}); check the sensor axes' signs",
+                    options.input_path, options.variant, *problem));
+  }
+  if (!options.output_path.empty()) {
+    ConstantsFile file{chosen->constants, options.variant};
+    WriteFileAtomically(
+        options.output_path,
+        ConstantsYaml(
+            file,
+            fmt::format("# Fitted by softbench fit from {} ({} rows, {}).\n"
+                        "# Axial R^2 {:.4f}, RMSE {:.3f} N; shear R^2 {:.4f}, "
+                        "RMSE {:.3f} N.\n",
+                        options.input_path, chosen->rows, chosen->method,
+                        chosen->directions[kAxial].r_squared,
+                        chosen->directions[kAxial].rmse_n,
+                        chosen->directions[kShear].r_squared,
+                        chosen->directions[kShear].rmse_n)));
+    out << fmt::format("constants ({}): {}\n", options.variant,
+                       options.output_path);
+  }
+  return 0;
+}
+
+}  // namespace softbench

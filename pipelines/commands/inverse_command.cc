@@ -1,0 +1,81 @@
+#include "pipelines/commands/inverse_command.h"
+
+#include <fmt/format.h>
+
+#include "model/inverse.h"
+#include "pipelines/commands/model_flags.h"
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+std::string FormatPressures(const Eigen::VectorXd& pressures_mpa,
+                            const ResolvedModel& resolved) {
+  std::string text;
+  for (int k = 0; k < pressures_mpa.size(); ++k) {
+    text += fmt::format("{}p{} = {:.4f}", k == 0 ? "" : ", ", k + 1,
+                        pressures_mpa[k] / resolved.mpa_per_unit);
+  }
+  return text + " " + resolved.pressure_unit;
+}
+
+}  // namespace
+
+void AddInverseCommand(CLI::App* command, InverseCommandOptions* options) {
+  AddModelSelectionOptions(command, &options->model);
+  command
+      ->add_option("--target", options->target,
+                   "y,z in mm for each head in file order, e.g. -0.5,0.8")
+      ->required();
+  command->add_option("--max", options->max_pressure,
+                      "highest allowed pressure, in --pressure-unit "
+                      "(default: 6 psi)");
+}
+
+int RunInverse(const InverseCommandOptions& options, std::ostream& out) {
+  const ResolvedModel resolved = ResolveModel(options.model);
+  const std::vector<double> target =
+      ParseNumberList(options.target, "--target");
+  const int n = resolved.mechanism.NumUnknowns();
+  if (static_cast<int>(target.size()) != n) {
+    throw InputError(fmt::format(
+        "--target: {} numbers given but mechanism '{}' has {} head(s); give "
+        "y,z for each ({} numbers)",
+        target.size(), resolved.mechanism.name, n / 2, n));
+  }
+  InverseOptions inverse_options;
+  if (options.max_pressure < 0.0 || !std::isfinite(options.max_pressure)) {
+    throw InputError("--max: must be a number > 0");
+  }
+  if (options.max_pressure > 0.0) {
+    inverse_options.max_pressure_mpa =
+        options.max_pressure * resolved.mpa_per_unit;
+  }
+  const EquilibriumProblem problem(resolved.mechanism, resolved.force_model);
+  const Eigen::VectorXd target_mm =
+      Eigen::Map<const Eigen::VectorXd>(target.data(), n);
+  const InverseResult result =
+      SolvePressuresForTarget(problem, target_mm, inverse_options);
+  if (!result.solved) {
+    throw InputError("inverse: the solver found no equilibrium at any start (" +
+                     result.message + ")");
+  }
+  if (result.reachable) {
+    out << fmt::format(
+        "reachable: {} ({}; {:.2e} mm from the target)\n",
+        FormatPressures(result.pressures_mpa, resolved),
+        FormatHeadPositions(resolved.mechanism, result.displacements_mm),
+        result.distance_mm);
+    return 0;
+  }
+  out << fmt::format(
+      "unreachable within 0 .. {:.4g} {}: the closest reachable point is {} "
+      "({:.4f} mm from the target), at {}\n",
+      inverse_options.max_pressure_mpa / resolved.mpa_per_unit,
+      resolved.pressure_unit,
+      FormatHeadPositions(resolved.mechanism, result.displacements_mm),
+      result.distance_mm, FormatPressures(result.pressures_mpa, resolved));
+  return kExitUnreachable;
+}
+
+}  // namespace softbench

@@ -1,0 +1,62 @@
+// softbench: bench videos of soft pneumatic mechanisms to model-validation
+// reports. The commands come from the command table; this file parses the
+// command line, sets up logging and is the one place user errors are caught
+// (docs/error-policy.md).
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <utility>
+#include <vector>
+
+#include "pipelines/commands/command_table.h"
+#include "util/input_error.h"
+
+namespace {
+
+// Exit codes: 0 success, 1 internal failure, 2 bad input, 3 unreachable
+// target (inverse), CLI11's own codes (>= 100) for malformed command lines.
+constexpr int kExitInternal = 1;
+constexpr int kExitInputError = 2;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "softbench: soft pneumatic actuator mechanisms, from model to bench "
+      "video"};
+  app.require_subcommand(1);
+  softbench::GlobalFlags global;
+  app.add_flag("--quiet,-q", global.quiet,
+               "print errors only (no progress, no warnings)");
+  std::vector<std::pair<CLI::App*, softbench::CommandRun>> runs;
+  for (const softbench::Command& command : softbench::Commands()) {
+    CLI::App* subcommand = app.add_subcommand(std::string(command.name),
+                                              std::string(command.help));
+    runs.emplace_back(subcommand, command.add_flags(subcommand));
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  auto logger = spdlog::stderr_color_mt("softbench");
+  logger->set_pattern("softbench: %l: %v");
+  logger->set_level(global.quiet ? spdlog::level::err : spdlog::level::info);
+  spdlog::set_default_logger(logger);
+
+  try {
+    for (const auto& [subcommand, run] : runs) {
+      if (subcommand->parsed()) return run(global, std::cout);
+    }
+  } catch (const softbench::InputError& e) {
+    spdlog::error("{}", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    spdlog::critical("internal error: {}", e.what());
+    return kExitInternal;
+  }
+  return kExitInternal;
+}

@@ -1,0 +1,45 @@
+#include "pipelines/commands/render_flags.h"
+
+#include <vector>
+
+#include "pipelines/commands/model_flags.h"
+#include "util/input_error.h"
+
+namespace softbench {
+
+cv::Size ParseResolution(const std::string& text) {
+  if (text == "720p") return {1280, 720};
+  if (text == "1080p") return {1920, 1080};
+  if (text == "4k") return {3840, 2160};
+  int w = 0, h = 0;
+  char x = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d", &w, &x, &h) == 3 && x == 'x' &&
+      w >= 16 && h >= 16 && w <= 8192 && h <= 8192 && w % 2 == 0 &&
+      h % 2 == 0) {
+    return {w, h};
+  }
+  throw InputError("--resolution: '" + text +
+                   "' is not 720p, 1080p, 4k or WxH with even sides");
+}
+
+CameraBump ParseCameraBump(const std::string& text) {
+  const size_t colon = text.find(':');
+  const auto fail = [&] {
+    return InputError("--camera-bump: '" + text +
+                      "' is not T:DX,DY or T:DX,DY,ROLL_DEG (seconds, "
+                      "pixels, degrees), e.g. 4.5:2,0.5,0.05");
+  };
+  if (colon == std::string::npos) throw fail();
+  CameraBump bump;
+  const std::vector<double> time =
+      ParseNumberList(text.substr(0, colon), "--camera-bump");
+  const std::vector<double> rest =
+      ParseNumberList(text.substr(colon + 1), "--camera-bump");
+  if (time.size() != 1 || (rest.size() != 2 && rest.size() != 3)) throw fail();
+  bump.time_s = time[0];
+  bump.shift_px = {rest[0], rest[1]};
+  if (rest.size() == 3) bump.roll_deg = rest[2];
+  return bump;
+}
+
+}  // namespace softbench

@@ -1,0 +1,56 @@
+#include "pipelines/commands/track_command.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "pipelines/formats/test_plan.h"
+#include "pipelines/measurement/video_measurement.h"
+#include "pipelines/reports/validation_files.h"
+#include "util/atomic_file.h"
+#include "util/input_error.h"
+
+namespace softbench {
+
+void AddTrackCommand(CLI::App* c, TrackCommandOptions* options) {
+  c->add_option("--plan", options->plan_path, "test plan YAML")->required();
+  c->add_option("--video", options->video_path, "bench video")->required();
+  c->add_option("--output", options->output_path, "trajectory CSV to write")
+      ->required();
+  c->add_option("--rest-s", options->rest_s,
+                "seconds of rest at the start, when the plan has no times")
+      ->capture_default_str();
+  c->add_flag("--no-registration", options->no_registration,
+              "take the camera to be still instead of registering every "
+              "frame to the bench");
+  c->add_flag("--full-frame", options->full_frame,
+              "search the whole image in every frame (slow; for checks)");
+}
+
+int RunTrack(const TrackCommandOptions& options, std::ostream& out) {
+  const TestPlan plan = LoadTestPlan(options.plan_path);
+  VideoMeasurementOptions measure;
+  if (!(options.rest_s > 0.0)) throw InputError("--rest-s: must be > 0");
+  measure.rest_s = options.rest_s;
+  measure.tracker.full_frame_every_frame = options.full_frame;
+  measure.register_frames = !options.no_registration;
+  measure.progress = !options.quiet;
+  const VideoMeasurement m = MeasureVideo(plan, options.video_path, measure);
+  WriteFileAtomically(options.output_path, TrajectoryCsv(plan, m));
+  out << fmt::format(
+      "measured {} frames of {}: scale from {} ({:.5f} mm/px at the image "
+      "centre); {} dot-frames missing, {} frames searched in full, {} "
+      "same-colour blobs rejected; trajectory in {}\n",
+      m.frames.size(), options.video_path, m.scale_source, m.mm_per_px,
+      m.missing_dots, m.full_frame_frames, m.rejected_blobs,
+      options.output_path);
+  if (m.distortion.performed) {
+    if (m.distortion.warn) {
+      spdlog::warn("{}", m.distortion.message);
+    } else {
+      out << "distortion check: " << m.distortion.message << "\n";
+    }
+  }
+  return 0;
+}
+
+}  // namespace softbench

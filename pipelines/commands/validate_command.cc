@@ -1,0 +1,165 @@
+#include "pipelines/commands/validate_command.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+
+#include "model/actuator_model.h"
+#include "pipelines/commands/model_selection.h"
+#include "pipelines/reports/validation_files.h"
+#include "util/atomic_file.h"
+#include "util/input_error.h"
+#include "util/parallel_tasks.h"
+#include "util/progress.h"
+
+namespace softbench {
+namespace {
+
+// The plan (with the options' model) and the pressure log's holds, checked
+// against each other before any video work.
+TestPlan LoadValidationPlan(const ValidateCommandOptions& options,
+                            std::optional<PressureLogTimes>* log) {
+  TestPlan plan = LoadTestPlan(options.plan_path);
+  if (!options.constants_path.empty() || !options.variant.empty()) {
+    plan.force_model = ResolveAxialShearModel(
+        options.constants_path.empty() ? plan.constants_path
+                                       : options.constants_path,
+        options.variant.empty() ? std::string(VariantName(plan.force_model))
+                                : options.variant,
+        nullptr);
+  }
+  if (!options.pressure_log_path.empty()) {
+    *log = PressureLogTimes{options.pressure_log_path,
+                            PlanPressureHolds(plan, options.pressure_log_path)};
+  }
+  return plan;
+}
+
+// What the command prints of one video.
+std::string SummaryText(const VideoValidation& v) {
+  const ValidationResult& r = v.result;
+  std::string text =
+      fmt::format("{}: {} test points (times from {}), {} measured\n",
+                  v.measurement.video_path, r.tests.size(), r.times_source,
+                  std::count_if(r.tests.begin(), r.tests.end(),
+                                [](const TestScore& t) { return t.measured; }));
+  for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
+    text += fmt::format(
+        "  {}: model error mean {:.4f} mm (max {:.4f}), baseline {:.4f} mm "
+        "(max {:.4f}): {:.0f} % better\n",
+        v.plan.mechanism.heads[h].name, r.model_errors[h].mean_mm,
+        r.model_errors[h].max_mm, r.baseline_errors[h].mean_mm,
+        r.baseline_errors[h].max_mm, r.improvement_percent[h]);
+  }
+  text += fmt::format(
+      "  hysteresis above {} mm: {} ({})\n", v.plan.hysteresis_tolerance_mm,
+      r.hysteresis_flagged.empty()
+          ? std::string("none")
+          : fmt::format("{}", fmt::join(r.hysteresis_flagged, ", ")),
+      r.hysteresis_cause);
+  return text;
+}
+
+}  // namespace
+
+void AddValidateCommand(CLI::App* c, ValidateCommandOptions* options) {
+  c->add_option("videos", options->video_paths,
+                "bench video(s); several get one report each and an index")
+      ->required();
+  c->add_option("--jobs", options->jobs,
+                "videos measured at once (0: one per core)")
+      ->capture_default_str();
+  c->add_option("--plan", options->plan_path, "test plan YAML")->required();
+  c->add_option("--out", options->output_directory, "report directory")
+      ->required();
+  c->add_option("--constants", options->constants_path,
+                "actuator constants (default: the plan's)");
+  c->add_option("--pressure-log", options->pressure_log_path,
+                "the regulator's log (time_s,p1..pN): test times from it, "
+                "its clock aligned by the motion");
+  c->add_option("--rest-s", options->rest_s,
+                "plan without times: seconds at rest at the video's start")
+      ->capture_default_str();
+  c->add_flag("--no-registration", options->no_registration,
+              "take the camera to be still instead of registering every "
+              "frame to the bench (the thesis's method)");
+  c->add_flag("--windows-only", options->windows_only,
+              "read only the frames of the tests' windows, seeking between "
+              "them (needs the times in the plan)");
+  c->add_option("--variant", options->variant,
+                ModelVariantNames() + " (default: the plan's)");
+}
+
+int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
+  if (options.video_paths.empty()) throw InputError("validate: give a video");
+  if (options.jobs < 0) throw InputError("--jobs: must be >= 0");
+  VideoValidationOptions validation = options.validation;
+  validation.rest_s = options.rest_s;
+  validation.windows_only = options.windows_only;
+  validation.register_frames = !options.no_registration;
+  validation.progress = !options.quiet && options.video_paths.size() == 1;
+  if (const std::optional<std::string> problem = validation.Check()) {
+    throw InputError("validate: " + *problem);
+  }
+  std::optional<PressureLogTimes> log;
+  const TestPlan plan = LoadValidationPlan(options, &log);
+  const int count = static_cast<int>(options.video_paths.size());
+  std::vector<VideoValidation> videos(count);
+  if (count == 1) {
+    videos[0] = ValidateVideo(plan, options.video_paths[0], log, validation);
+  } else {
+    // Videos in parallel; one bar for all of them.
+    std::atomic<int> done{0};
+    ProgressBar progress("videos", count, !options.quiet);
+    RunParallelTasks(
+        count, options.jobs,
+        [&](int i) {
+          videos[i] =
+              ValidateVideo(plan, options.video_paths[i], log, validation);
+          ++done;
+        },
+        [&] { progress.Update(done); });
+    progress.Finish();
+  }
+
+  AtomicDirectory report(options.output_directory);
+  if (count == 1) {
+    WriteValidationFiles(videos[0], report.File(""));
+  } else {
+    // One folder per video, named after the file (made unique).
+    std::vector<std::string> names;
+    for (const std::string& path : options.video_paths) {
+      std::string name = std::filesystem::path(path).stem().string();
+      const std::string base = name;
+      for (int k = 2;
+           std::find(names.begin(), names.end(), name) != names.end(); ++k) {
+        name = base + "_" + std::to_string(k);
+      }
+      names.push_back(name);
+    }
+    for (int i = 0; i < count; ++i) {
+      WriteValidationFiles(videos[i], report.File(names[i]));
+    }
+    WriteValidationIndex(videos, names, report);
+  }
+  report.Commit();
+
+  for (const VideoValidation& v : videos) {
+    for (const std::string& warning : v.result.warnings) {
+      spdlog::warn("{}: {}", v.measurement.video_path, warning);
+    }
+    if (v.measurement.distortion.warn) {
+      spdlog::warn("{}", v.measurement.distortion.message);
+    }
+    out << SummaryText(v);
+  }
+  out << fmt::format("report: {}/{}\n", options.output_directory,
+                     count == 1 ? "report.html" : "index.html");
+  return 0;
+}
+
+}  // namespace softbench

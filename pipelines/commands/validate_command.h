@@ -1,0 +1,42 @@
+#ifndef SOFTBENCH_PIPELINES_COMMANDS_VALIDATE_COMMAND_H_
+#define SOFTBENCH_PIPELINES_COMMANDS_VALIDATE_COMMAND_H_
+
+#include <CLI/CLI.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "pipelines/validation/validate_video.h"
+
+namespace softbench {
+
+// `softbench validate`: a bench video and its test plan in, the thesis's
+// per-test-point validation (figs. 4.8, 4.9, 4.16, 4.17) out.
+struct ValidateCommandOptions {
+  std::vector<std::string> video_paths;
+  int jobs = 1;  // videos measured at once (0: one per core)
+  std::string plan_path;
+  std::string output_directory;
+  // Optional: the regulator's log (time_s, p1..pN in the plan's unit); its
+  // holds give the test points' times, aligned to the video by the motion.
+  std::string pressure_log_path;
+  std::string constants_path;  // overrides the plan's
+  std::string variant;         // overrides the plan's / constants file's
+  // Without times in the plan: seconds at rest at the start of the video.
+  double rest_s = 1.0;
+  // Read only the frames of the tests' windows, seeking between them (the
+  // plan must give the times); trajectory.csv then holds those frames only.
+  bool windows_only = false;
+  bool no_registration = false;  // take the camera to be still
+  bool quiet = false;
+  // Scoring and detection (no flags: their defaults are the thesis's).
+  VideoValidationOptions validation;
+};
+
+// Adds the command's flags to `command`, bound to `options`.
+void AddValidateCommand(CLI::App* command, ValidateCommandOptions* options);
+int RunValidate(const ValidateCommandOptions& options, std::ostream& out);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_COMMANDS_VALIDATE_COMMAND_H_

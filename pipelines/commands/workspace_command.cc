@@ -1,0 +1,109 @@
+#include "pipelines/commands/workspace_command.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "model/workspace.h"
+#include "pipelines/commands/command_output.h"
+#include "pipelines/commands/model_flags.h"
+#include "pipelines/formats/prediction_table.h"
+#include "util/input_error.h"
+
+namespace softbench {
+
+void AddWorkspaceCommand(CLI::App* command, WorkspaceCommandOptions* options) {
+  AddModelSelectionOptions(command, &options->model);
+  command
+      ->add_option("--max", options->max_pressure,
+                   "highest pressure level, in --pressure-unit")
+      ->capture_default_str();
+  command
+      ->add_option("--step", options->step,
+                   "spacing of pressure levels, in --pressure-unit")
+      ->capture_default_str();
+  command
+      ->add_option("--threads", options->threads,
+                   "worker threads (0: all cores)")
+      ->capture_default_str();
+  command->add_option("--output", options->output_path,
+                      "map CSV to write ('-' for standard output)");
+}
+
+int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
+  const ResolvedModel resolved = ResolveModel(options.model);
+  if (!(options.step > 0.0) || !std::isfinite(options.step)) {
+    throw InputError("--step: must be a number > 0");
+  }
+  if (!(options.max_pressure >= 0.0) || !std::isfinite(options.max_pressure)) {
+    throw InputError("--max: must be a number >= 0");
+  }
+  const double intervals = options.max_pressure / options.step;
+  const long long num_intervals = std::llround(intervals);
+  if (std::abs(intervals - num_intervals) > 1e-9 * std::max(1.0, intervals)) {
+    throw InputError(fmt::format(
+        "--max {} is not a whole number of --step {}; choose a step that "
+        "divides the range",
+        options.max_pressure, options.step));
+  }
+  if (options.threads < 0) throw InputError("--threads: must be >= 0");
+  const int num_actuators = resolved.mechanism.NumActuators();
+  const double count = std::pow(num_intervals + 1.0, num_actuators);
+  if (count > 5e7) {
+    throw InputError(fmt::format(
+        "--step: {} levels for {} actuators make {:.3g} configurations; use "
+        "a coarser step",
+        num_intervals + 1, num_actuators, count));
+  }
+
+  WorkspaceOptions workspace_options;
+  workspace_options.num_threads = options.threads;
+  // Levels in the user's unit, written back as given (no MPa round trip).
+  const std::vector<double> levels =
+      EvenPressureLevels(options.max_pressure, static_cast<int>(num_intervals));
+  for (double level : levels) {
+    workspace_options.pressure_levels_mpa.push_back(level *
+                                                    resolved.mpa_per_unit);
+  }
+  const EquilibriumProblem problem(resolved.mechanism, resolved.force_model);
+  const WorkspaceMap map = ComputeWorkspace(problem, workspace_options);
+
+  if (!options.output_path.empty()) {
+    PredictionTable table(resolved.mechanism);
+    const int radix = static_cast<int>(levels.size());
+    Eigen::VectorXd pressures(num_actuators);
+    for (int i = 0; i < map.pressures_mpa.rows(); ++i) {
+      // Row i holds level digits of i in base `radix`, p1 slowest.
+      for (int k = num_actuators - 1, rest = i; k >= 0; --k, rest /= radix) {
+        pressures[k] = levels[rest % radix];
+      }
+      table.AddRow(pressures, map.displacements_mm.row(i).transpose(),
+                   map.summaries[i]);
+    }
+    WriteCommandOutput(options.output_path, table.text(), out);
+  }
+  std::ostream& report = options.output_path == "-" ? std::cerr : out;
+  report << fmt::format(
+      "{} {}: {} configurations (0 to {} {} in steps of {}), {} converged\n",
+      resolved.mechanism.name, resolved.model_name, map.pressures_mpa.rows(),
+      options.max_pressure, resolved.pressure_unit, options.step,
+      map.pressures_mpa.rows() - map.num_not_converged);
+  const std::vector<HeadExtents> extents = map.Extents();
+  for (int h = 0; h < resolved.mechanism.NumHeads(); ++h) {
+    report << fmt::format(
+        "  {}: y {:.4f} .. {:.4f} mm, z {:.4f} .. {:.4f} mm\n",
+        resolved.mechanism.heads[h].name, extents[h].min_mm.x(),
+        extents[h].max_mm.x(), extents[h].min_mm.y(), extents[h].max_mm.y());
+  }
+  if (map.num_not_converged > 0) {
+    spdlog::warn(
+        "{} configurations did not converge; they are excluded from "
+        "the extents and written with converged = 0",
+        map.num_not_converged);
+  }
+  return 0;
+}
+
+}  // namespace softbench

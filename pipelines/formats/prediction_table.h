@@ -1,0 +1,32 @@
+#ifndef SOFTBENCH_PIPELINES_FORMATS_PREDICTION_TABLE_H_
+#define SOFTBENCH_PIPELINES_FORMATS_PREDICTION_TABLE_H_
+
+#include <Eigen/Core>
+#include <string>
+
+#include "model/equilibrium.h"
+#include "model/mechanism.h"
+
+namespace softbench {
+
+// The CSV written by `predict` and `workspace` (README, command-line
+// contract): p1..pN, then y1_mm,z1_mm per head in the mechanism's head order,
+// then converged (0/1) and residual_n. Positions of a configuration that did
+// not converge are written as nan, never as numbers.
+class PredictionTable {
+ public:
+  explicit PredictionTable(const Mechanism& mechanism);
+
+  // Pressures are written in the caller's unit, as given.
+  void AddRow(const Eigen::VectorXd& pressures_in_unit,
+              const Eigen::VectorXd& displacements_mm,
+              const EquilibriumSummary& summary);
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_FORMATS_PREDICTION_TABLE_H_

@@ -1,0 +1,539 @@
+#include "pipelines/formats/test_plan.h"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "model/units.h"
+#include "pipelines/formats/constants_file.h"
+#include "pipelines/formats/dot_colors.h"
+#include "pipelines/formats/mechanism_io.h"
+#include "util/check.h"
+#include "util/input_error.h"
+#include "util/text_file.h"
+#include "util/yaml_reader.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool IsBuiltin(const std::string& name) {
+  for (const std::string& builtin : BuiltinMechanismNames()) {
+    if (name == builtin) return true;
+  }
+  return false;
+}
+
+// A file named in the plan, relative to the plan's folder.
+std::string Resolve(const std::string& plan_path, const std::string& name) {
+  const fs::path path(name);
+  if (path.is_absolute()) return name;
+  return (fs::path(plan_path).parent_path() / path).lexically_normal().string();
+}
+
+double NonNegative(const YamlReader& reader, const YAML::Node& node,
+                   std::string_view key) {
+  const double value = reader.Number(node, key);
+  if (value < 0.0) reader.Fail(node, key, "must be >= 0");
+  return value;
+}
+
+double Positive(const YamlReader& reader, const YAML::Node& node,
+                std::string_view key) {
+  const double value = reader.Number(node, key);
+  if (!(value > 0.0)) reader.Fail(node, key, "must be > 0");
+  return value;
+}
+
+void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
+                      TestPlan* plan) {
+  reader.CheckKeys(
+      node,
+      {"tag", "plane_offset_mm", "intrinsics", "focal_length_35mm", "mm_per_px",
+       "image_rotation_deg", "scale_from_dots", "distortion_tolerance"});
+  CalibrationSpec& c = plan->calibration;
+  if (const YAML::Node focal = node["focal_length_35mm"]) {
+    c.focal_length_35mm = Positive(reader, focal, "focal_length_35mm");
+  }
+  if (const YAML::Node scale = node["mm_per_px"]) {
+    c.mm_per_px = Positive(reader, scale, "mm_per_px");
+  }
+  if (const YAML::Node rotation = node["image_rotation_deg"]) {
+    c.image_rotation_deg = reader.Number(rotation, "image_rotation_deg");
+  }
+  if (const YAML::Node dots = node["scale_from_dots"]) {
+    c.scale_from_dots = reader.Bool(dots, "scale_from_dots");
+  }
+  if (const YAML::Node tolerance = node["distortion_tolerance"]) {
+    c.distortion_tolerance =
+        Positive(reader, tolerance, "distortion_tolerance");
+  }
+  if (const YAML::Node offset = node["plane_offset_mm"]) {
+    c.plane_offset_mm = reader.Number(offset, "plane_offset_mm");
+  }
+  if (const YAML::Node intrinsics = node["intrinsics"]) {
+    c.intrinsics_path =
+        Resolve(plan->path, reader.String(intrinsics, "intrinsics"));
+  }
+  if (const YAML::Node tag_node = node["tag"]) {
+    reader.CheckKeys(tag_node, {"family", "id", "size_mm", "center_mm"});
+    TagSpec tag;
+    if (const YAML::Node family = tag_node["family"]) {
+      tag.family = reader.String(family, "family");
+      if (tag.family != "tag36h11") {
+        reader.Fail(family, "family", "only tag36h11 is supported; print one");
+      }
+    }
+    if (const YAML::Node id = tag_node["id"]) {
+      const double value = reader.Number(id, "id");
+      if (value < 0 || value >= 587 || value != std::floor(value)) {
+        reader.Fail(id, "id", "must be a whole number from 0 to 586");
+      }
+      tag.id = static_cast<int>(value);
+    }
+    if (const YAML::Node size = tag_node["size_mm"]) {
+      tag.size_mm = Positive(reader, size, "size_mm");
+    }
+    if (const YAML::Node center = tag_node["center_mm"]) {
+      const auto pair = reader.Pair(center, "center_mm");
+      tag.center_mm = Eigen::Vector2d(pair[0], pair[1]);
+    }
+    c.tag = tag;
+  }
+  const int scales =
+      (c.tag ? 1 : 0) + (c.mm_per_px ? 1 : 0) + (c.scale_from_dots ? 1 : 0);
+  if (scales > 1) {
+    reader.Fail(node, "calibration",
+                "give one scale: tag, mm_per_px or scale_from_dots");
+  }
+}
+
+void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
+                  TestPlan* plan) {
+  if (!node.IsSequence()) reader.Fail(node, "markers", "must be a list");
+  std::vector<bool> seen(plan->mechanism.NumHeads(), false);
+  for (const YAML::Node& entry : node) {
+    reader.CheckKeys(entry, {"head", "color", "dots", "dot_diameter_mm",
+                             "layout_mm", "hsv"});
+    MarkerSpec marker;
+    const YAML::Node head = reader.Require(entry, "head");
+    const std::string head_name = reader.String(head, "head");
+    marker.head = -1;
+    for (int h = 0; h < plan->mechanism.NumHeads(); ++h) {
+      if (plan->mechanism.heads[h].name == head_name) marker.head = h;
+    }
+    if (marker.head < 0) {
+      reader.Fail(head, "head",
+                  "'" + head_name + "' is not a head of mechanism '" +
+                      plan->mechanism.name + "'");
+    }
+    if (seen[marker.head]) {
+      reader.Fail(head, "head", "'" + head_name + "' has markers twice");
+    }
+    seen[marker.head] = true;
+    if (const YAML::Node color = entry["color"]) {
+      marker.color = reader.String(color, "color");
+      if (FindDotColor(marker.color) == nullptr) {
+        reader.Fail(color, "color",
+                    "'" + marker.color + "' is not one of " + DotColorNames());
+      }
+    }
+    if (const YAML::Node dots = entry["dots"]) {
+      const double value = reader.Number(dots, "dots");
+      if (value < 1 || value > 12 || value != std::floor(value)) {
+        reader.Fail(dots, "dots", "must be a whole number from 1 to 12");
+      }
+      marker.dots = static_cast<int>(value);
+    }
+    if (const YAML::Node diameter = entry["dot_diameter_mm"]) {
+      marker.dot_diameter_mm = Positive(reader, diameter, "dot_diameter_mm");
+    }
+    if (const YAML::Node hsv = entry["hsv"]) {
+      if (!hsv.IsSequence() || hsv.size() != 6) {
+        reader.Fail(hsv, "hsv",
+                    "must be [h_low, h_high, s_low, s_high, v_low, v_high] "
+                    "(as softbench tune prints)");
+      }
+      std::array<int, 6> bounds{};
+      for (size_t i = 0; i < 6; ++i) {
+        const double v = reader.Number(hsv[i], "hsv");
+        if (v != std::floor(v))
+          reader.Fail(hsv, "hsv", "must be whole numbers");
+        bounds[i] = static_cast<int>(v);
+      }
+      if (auto problem = CheckHsvBounds(bounds)) {
+        reader.Fail(hsv, "hsv", *problem);
+      }
+      marker.hsv = bounds;
+    }
+    if (const YAML::Node layout = entry["layout_mm"]) {
+      if (!layout.IsSequence() ||
+          static_cast<int>(layout.size()) != marker.dots) {
+        reader.Fail(
+            layout, "layout_mm",
+            fmt::format("must list {} [y, z] pairs, one per dot", marker.dots));
+      }
+      for (const YAML::Node& point : layout) {
+        const auto pair = reader.Pair(point, "layout_mm");
+        marker.layout_mm.emplace_back(pair[0], pair[1]);
+      }
+    }
+    plan->markers.push_back(std::move(marker));
+  }
+  for (int h = 0; h < plan->mechanism.NumHeads(); ++h) {
+    if (!seen[h]) {
+      reader.Fail(node, "markers",
+                  "head '" + plan->mechanism.heads[h].name +
+                      "' has no markers; add an entry for it");
+    }
+  }
+  std::sort(
+      plan->markers.begin(), plan->markers.end(),
+      [](const MarkerSpec& a, const MarkerSpec& b) { return a.head < b.head; });
+}
+
+void ParseTests(const YamlReader& reader, const YAML::Node& node,
+                TestPlan* plan) {
+  if (!node.IsSequence() || node.size() == 0) {
+    reader.Fail(node, "tests", "must be a non-empty list");
+  }
+  const int n = plan->mechanism.NumActuators();
+  for (const YAML::Node& entry : node) {
+    reader.CheckKeys(entry, {"id", "pressures", "actuate_s", "release_s",
+                             "residual_offset_mm"});
+    PlanTest test;
+    test.id = reader.String(reader.Require(entry, "id"), "id");
+    const YAML::Node pressures = reader.Require(entry, "pressures");
+    if (!pressures.IsSequence() || static_cast<int>(pressures.size()) != n) {
+      reader.Fail(pressures, "pressures",
+                  fmt::format("mechanism '{}' has {} actuators: give {} "
+                              "pressures in {}",
+                              plan->mechanism.name, n, n, plan->pressure_unit));
+    }
+    test.pressures.resize(n);
+    for (int k = 0; k < n; ++k) {
+      test.pressures[k] = NonNegative(reader, pressures[k], "pressures");
+    }
+    const YAML::Node actuate = entry["actuate_s"];
+    const YAML::Node release = entry["release_s"];
+    if (actuate.IsDefined() != release.IsDefined()) {
+      reader.Fail(entry, "actuate_s",
+                  "give both actuate_s and release_s, or neither");
+    }
+    if (actuate) {
+      test.actuate_s = NonNegative(reader, actuate, "actuate_s");
+      test.release_s = reader.Number(release, "release_s");
+      if (!(*test.release_s > *test.actuate_s)) {
+        reader.Fail(release, "release_s", "must be later than actuate_s");
+      }
+      if (!plan->tests.empty() && plan->tests.back().release_s &&
+          !(*test.actuate_s > *plan->tests.back().release_s)) {
+        reader.Fail(actuate, "actuate_s",
+                    "must be later than the previous test's release_s");
+      }
+    }
+    if (const YAML::Node offset = entry["residual_offset_mm"]) {
+      const auto pair = reader.Pair(offset, "residual_offset_mm");
+      test.residual_offset_mm = {pair[0], pair[1]};
+    }
+    plan->tests.push_back(std::move(test));
+  }
+  const bool any = std::any_of(plan->tests.begin(), plan->tests.end(),
+                               [](const PlanTest& t) { return t.actuate_s; });
+  if (any && !plan->HasTimes()) {
+    reader.Fail(node, "tests",
+                "some tests have times and some do not; give times for all "
+                "or for none");
+  }
+}
+
+void ParseScene(const YamlReader& reader, const YAML::Node& node,
+                SceneSpec* scene) {
+  reader.CheckKeys(node, {"settle_time_constant_s", "creep_fraction",
+                          "creep_time_constant_s", "head_side_mm", "lead_in_s",
+                          "hold_s", "rest_s"});
+  const auto set = [&](const char* key, double* value, bool positive) {
+    if (const YAML::Node v = node[key]) {
+      *value =
+          positive ? Positive(reader, v, key) : NonNegative(reader, v, key);
+    }
+  };
+  set("settle_time_constant_s", &scene->settle_time_constant_s, true);
+  set("creep_fraction", &scene->creep_fraction, false);
+  set("creep_time_constant_s", &scene->creep_time_constant_s, true);
+  set("head_side_mm", &scene->head_side_mm, false);
+  set("lead_in_s", &scene->lead_in_s, false);
+  set("hold_s", &scene->hold_s, true);
+  set("rest_s", &scene->rest_s, true);
+}
+
+}  // namespace
+
+std::array<int, 6> MarkerHsvBounds(const MarkerSpec& marker) {
+  if (marker.hsv) return *marker.hsv;
+  const DotColor* color = FindDotColor(marker.color);
+  SOFTBENCH_CHECK(color != nullptr)
+      << "marker colour '" << marker.color << "' was not checked when parsed";
+  return color->hsv_bounds;
+}
+
+bool TestPlan::HasTimes() const {
+  return std::all_of(tests.begin(), tests.end(),
+                     [](const PlanTest& t) { return t.actuate_s.has_value(); });
+}
+
+std::vector<Eigen::Vector2d> AttachmentDirections(const Mechanism& mechanism,
+                                                  int head) {
+  std::vector<Eigen::Vector2d> directions;
+  for (const Actuator& actuator : mechanism.actuators) {
+    const Eigen::Vector2d axis = mechanism.heads[actuator.head].rest_mm -
+                                 mechanism.AnchorRestPosition(actuator);
+    if (actuator.head == head) directions.push_back(-axis.normalized());
+    if (actuator.anchor.kind == AnchorRef::Kind::kHead &&
+        actuator.anchor.index == head) {
+      directions.push_back(axis.normalized());
+    }
+  }
+  return directions;
+}
+
+std::vector<Eigen::Vector2d> DefaultDotLayout(const Mechanism& mechanism,
+                                              int head, int dots,
+                                              double head_side_mm) {
+  // Dots sit toward the triangle's corners, i.e. away from the attachments,
+  // at 55 % of the inradius so they clear the edges.
+  const double radius = 0.55 * head_side_mm / (2.0 * std::sqrt(3.0));
+  const std::vector<Eigen::Vector2d> attachments =
+      AttachmentDirections(mechanism, head);
+  double start = std::numbers::pi / 2;
+  if (attachments.size() == 3) {
+    start = std::atan2(-attachments[0].y(), -attachments[0].x());
+  }
+  std::vector<Eigen::Vector2d> layout;
+  for (int i = 0; i < dots; ++i) {
+    const double angle = start + 2.0 * std::numbers::pi * i / dots;
+    layout.emplace_back(radius * std::cos(angle), radius * std::sin(angle));
+  }
+  if (dots == 1) layout[0].setZero();
+  return layout;
+}
+
+TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
+  const YamlReader reader(path);
+  const YAML::Node root = reader.Parse(yaml);
+  if (!root.IsMap()) throw InputError(path + ": a test plan is a YAML map");
+  reader.CheckKeys(root, {"mechanism", "constants", "variant", "pressure_unit",
+                          "calibration", "markers", "windows",
+                          "hysteresis_tolerance_mm", "tests", "scene"});
+  TestPlan plan;
+  plan.path = path;
+
+  const YAML::Node mechanism = reader.Require(root, "mechanism");
+  plan.mechanism_name = reader.String(mechanism, "mechanism");
+  if (!IsBuiltin(plan.mechanism_name)) {
+    plan.mechanism_path = Resolve(path, plan.mechanism_name);
+  }
+  try {
+    plan.mechanism =
+        LoadMechanism(plan.mechanism_path.empty() ? plan.mechanism_name
+                                                  : plan.mechanism_path);
+  } catch (const InputError& e) {
+    reader.Fail(mechanism, "mechanism", e.what());
+  }
+  ConstantsFile constants;
+  if (const YAML::Node file = root["constants"]) {
+    plan.constants_path = Resolve(path, reader.String(file, "constants"));
+    try {
+      constants = LoadConstantsFile(plan.constants_path);
+    } catch (const InputError& e) {
+      reader.Fail(file, "constants", e.what());
+    }
+  }
+  std::string variant = constants.variant.value_or("small-angle");
+  if (const YAML::Node v = root["variant"])
+    variant = reader.String(v, "variant");
+  const std::optional<ForceModel> model =
+      ForceModelFromVariantName(variant, constants.constants);
+  if (!model) {
+    reader.Fail(
+        root["variant"], "variant",
+        "'" + variant + "' is not a variant; use " + ModelVariantNames());
+  }
+  plan.force_model = *model;
+
+  const YAML::Node unit = reader.Require(root, "pressure_unit");
+  plan.pressure_unit = reader.String(unit, "pressure_unit");
+  if (const std::optional<double> mpa =
+          MpaPerPressureUnit(plan.pressure_unit)) {
+    plan.mpa_per_unit = *mpa;
+  } else {
+    reader.Fail(unit, "pressure_unit", "must be " + PressureUnitNames());
+  }
+
+  if (const YAML::Node calibration = root["calibration"]) {
+    ParseCalibration(reader, calibration, &plan);
+  }
+  if (const YAML::Node scene = root["scene"])
+    ParseScene(reader, scene, &plan.scene);
+  if (plan.scene.head_side_mm == 0.0) {
+    plan.scene.head_side_mm = plan.mechanism.NumHeads() == 1 ? 40.0 : 32.0;
+  }
+  if (const YAML::Node markers = root["markers"]) {
+    ParseMarkers(reader, markers, &plan);
+  } else {
+    // Thesis: red dots on the delta head; another colour per further head.
+    for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
+      MarkerSpec marker;
+      marker.head = h;
+      const auto colors = DotColors();
+      marker.color = colors[h % colors.size()].name;
+      plan.markers.push_back(marker);
+    }
+  }
+  for (MarkerSpec& marker : plan.markers) {
+    if (marker.layout_mm.empty()) {
+      marker.layout_mm = DefaultDotLayout(plan.mechanism, marker.head,
+                                          marker.dots, plan.scene.head_side_mm);
+    }
+  }
+  if (const YAML::Node windows = root["windows"]) {
+    reader.CheckKeys(windows, {"length_s"});
+    if (const YAML::Node length = windows["length_s"]) {
+      plan.window_s = Positive(reader, length, "length_s");
+    }
+  }
+  if (const YAML::Node tolerance = root["hysteresis_tolerance_mm"]) {
+    plan.hysteresis_tolerance_mm =
+        Positive(reader, tolerance, "hysteresis_tolerance_mm");
+  }
+  ParseTests(reader, reader.Require(root, "tests"), &plan);
+  return plan;
+}
+
+TestPlan LoadTestPlan(const std::string& path) {
+  return ParseTestPlan(ReadTextFile(path, "test plan"), path);
+}
+
+std::string TestPlanToYaml(const TestPlan& plan,
+                           const std::string& output_dir) {
+  const auto relative = [&](const std::string& file) {
+    return fs::relative(fs::absolute(file), fs::absolute(output_dir)).string();
+  };
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << YAML::BeginMap;
+  out << YAML::Key << "mechanism" << YAML::Value
+      << (plan.mechanism_path.empty() ? plan.mechanism_name
+                                      : relative(plan.mechanism_path));
+  if (!plan.constants_path.empty()) {
+    out << YAML::Key << "constants" << YAML::Value
+        << relative(plan.constants_path);
+  }
+  out << YAML::Key << "variant" << YAML::Value
+      << std::string(VariantName(plan.force_model));
+  out << YAML::Key << "pressure_unit" << YAML::Value << plan.pressure_unit;
+  out << YAML::Key << "calibration" << YAML::Value << YAML::BeginMap;
+  const CalibrationSpec& c = plan.calibration;
+  out << YAML::Key << "plane_offset_mm" << YAML::Value << c.plane_offset_mm;
+  // Keys beyond the defaults only when set, so rendered plans stay short.
+  if (!c.intrinsics_path.empty()) {
+    out << YAML::Key << "intrinsics" << YAML::Value
+        << relative(c.intrinsics_path);
+  }
+  if (c.focal_length_35mm != CalibrationSpec().focal_length_35mm) {
+    out << YAML::Key << "focal_length_35mm" << YAML::Value
+        << c.focal_length_35mm;
+  }
+  if (c.mm_per_px)
+    out << YAML::Key << "mm_per_px" << YAML::Value << *c.mm_per_px;
+  if (c.scale_from_dots) {
+    out << YAML::Key << "scale_from_dots" << YAML::Value << true;
+  }
+  if (c.mm_per_px || c.scale_from_dots) {
+    out << YAML::Key << "image_rotation_deg" << YAML::Value
+        << c.image_rotation_deg;
+  }
+  if (c.distortion_tolerance != CalibrationSpec().distortion_tolerance) {
+    out << YAML::Key << "distortion_tolerance" << YAML::Value
+        << c.distortion_tolerance;
+  }
+  if (plan.calibration.tag) {
+    const TagSpec& tag = *plan.calibration.tag;
+    out << YAML::Key << "tag" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "family" << YAML::Value << tag.family;
+    out << YAML::Key << "id" << YAML::Value << tag.id;
+    out << YAML::Key << "size_mm" << YAML::Value << tag.size_mm;
+    if (tag.center_mm) {
+      out << YAML::Key << "center_mm" << YAML::Value << YAML::Flow
+          << YAML::BeginSeq << tag.center_mm->x() << tag.center_mm->y()
+          << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  out << YAML::Key << "markers" << YAML::Value << YAML::BeginSeq;
+  for (const MarkerSpec& m : plan.markers) {
+    out << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "head" << YAML::Value
+        << plan.mechanism.heads[m.head].name;
+    out << YAML::Key << "color" << YAML::Value << m.color;
+    out << YAML::Key << "dots" << YAML::Value << m.dots;
+    out << YAML::Key << "dot_diameter_mm" << YAML::Value << m.dot_diameter_mm;
+    out << YAML::Key << "layout_mm" << YAML::Value << YAML::BeginSeq;
+    for (const Eigen::Vector2d& p : m.layout_mm) {
+      out << YAML::Flow << YAML::BeginSeq << p.x() << p.y() << YAML::EndSeq;
+    }
+    out << YAML::EndSeq;
+    if (m.hsv) {
+      out << YAML::Key << "hsv" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (int v : *m.hsv) out << v;
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "windows" << YAML::Value << YAML::Flow << YAML::BeginMap
+      << YAML::Key << "length_s" << YAML::Value << plan.window_s
+      << YAML::EndMap;
+  out << YAML::Key << "hysteresis_tolerance_mm" << YAML::Value
+      << plan.hysteresis_tolerance_mm;
+  const SceneSpec& s = plan.scene;
+  out << YAML::Key << "scene" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "settle_time_constant_s" << YAML::Value
+      << s.settle_time_constant_s;
+  out << YAML::Key << "creep_fraction" << YAML::Value << s.creep_fraction;
+  out << YAML::Key << "creep_time_constant_s" << YAML::Value
+      << s.creep_time_constant_s;
+  out << YAML::Key << "head_side_mm" << YAML::Value << s.head_side_mm;
+  out << YAML::Key << "lead_in_s" << YAML::Value << s.lead_in_s;
+  out << YAML::Key << "hold_s" << YAML::Value << s.hold_s;
+  out << YAML::Key << "rest_s" << YAML::Value << s.rest_s;
+  out << YAML::EndMap;
+  out << YAML::Key << "tests" << YAML::Value << YAML::BeginSeq;
+  for (const PlanTest& t : plan.tests) {
+    out << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "id" << YAML::Value << t.id;
+    out << YAML::Key << "pressures" << YAML::Value << YAML::Flow
+        << YAML::BeginSeq;
+    for (double p : t.pressures) out << p;
+    out << YAML::EndSeq;
+    if (t.actuate_s) {
+      out << YAML::Key << "actuate_s" << YAML::Value << *t.actuate_s;
+      out << YAML::Key << "release_s" << YAML::Value << *t.release_s;
+    }
+    if (!t.residual_offset_mm.isZero()) {
+      out << YAML::Key << "residual_offset_mm" << YAML::Value << YAML::Flow
+          << YAML::BeginSeq << t.residual_offset_mm.x()
+          << t.residual_offset_mm.y() << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace softbench

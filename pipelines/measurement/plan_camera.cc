@@ -1,0 +1,162 @@
+#include "pipelines/measurement/plan_camera.h"
+
+#include <fmt/format.h>
+
+#include <numbers>
+#include <set>
+
+#include "calibration/camera_calibration.h"
+#include "util/input_error.h"
+#include "util/statistics.h"
+#include "vision/frame_source.h"
+#include "vision/layout_scale.h"
+#include "vision/tag_detector.h"
+
+namespace softbench {
+namespace {
+
+// The tag's corners over the first frames, combined by a per-coordinate
+// median (robust to one bad detection); throws when the plan's tag is absent.
+std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
+                                                   VideoReader* reader_ptr,
+                                                   int tag_frames) {
+  const TagSpec& tag = *plan.calibration.tag;
+  VideoReader& reader = *reader_ptr;
+  const std::string& path = reader.path();
+  std::vector<std::array<Eigen::Vector2d, 4>> found;
+  std::set<int> other_ids;
+  VideoFrame frame;
+  int frames = 0;
+  const TagDetector detector;
+  // The tag stays put: after the first frame that shows it, only the region
+  // around it (grown by half its size) is searched, ten times faster.
+  cv::Rect region;
+  while (frames < tag_frames && reader.Read(&frame)) {
+    ++frames;
+    const cv::Mat luma = region.empty() ? frame.luma : frame.luma(region);
+    for (TagDetection d : detector.Detect(luma)) {
+      for (Eigen::Vector2d& corner : d.corners) {
+        corner += Eigen::Vector2d(region.x, region.y);
+      }
+      if (d.id == tag.id) {
+        found.push_back(d.corners);
+        if (region.empty()) {
+          const double side_px =
+              (d.corners[0] - d.corners[2]).norm() / std::numbers::sqrt2;
+          region = BoxAround({d.corners.begin(), d.corners.end()},
+                             0.5 * side_px, frame.luma.size());
+        }
+      } else {
+        other_ids.insert(d.id);
+      }
+    }
+  }
+  if (found.empty()) {
+    std::string seen = "no tag36h11 tag";
+    if (!other_ids.empty()) {
+      seen = "tag id(s)";
+      for (int id : other_ids) seen += fmt::format(" {}", id);
+    }
+    throw InputError(fmt::format(
+        "{}: found {} in the first {} frames, but the plan's calibration.tag "
+        "is id {}; put the tag in view, or set its id (or mm_per_px) in {}",
+        path, seen, frames, tag.id, plan.path));
+  }
+  std::array<Eigen::Vector2d, 4> corners;
+  for (int c = 0; c < 4; ++c) {
+    for (int axis = 0; axis < 2; ++axis) {
+      std::vector<double> values;
+      for (const auto& f : found) values.push_back(f[c][axis]);
+      corners[c][axis] = Median(values);
+    }
+  }
+  return corners;
+}
+
+}  // namespace
+
+CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
+                                int height_px) {
+  const CalibrationSpec& c = plan.calibration;
+  if (c.intrinsics_path.empty()) {
+    return CameraIntrinsics::FromEquivalentFocalLength(c.focal_length_35mm,
+                                                       width_px, height_px);
+  }
+  const CameraCalibration file = LoadCameraCalibration(c.intrinsics_path);
+  if (file.width_px != width_px || file.height_px != height_px) {
+    throw InputError(fmt::format(
+        "{}: the intrinsics are for {}x{} images but the video is {}x{}; "
+        "calibrate at the video's resolution",
+        c.intrinsics_path, file.width_px, file.height_px, width_px, height_px));
+  }
+  CameraIntrinsics k;
+  k.width_px = width_px;
+  k.height_px = height_px;
+  k.fx_px = file.camera_matrix(0, 0);
+  k.fy_px = file.camera_matrix(1, 1);
+  k.cx_px = file.camera_matrix(0, 2);
+  k.cy_px = file.camera_matrix(1, 2);
+  k.distortion = file.distortion;
+  if (auto problem = k.Check()) {
+    throw InputError(c.intrinsics_path + ": " + *problem);
+  }
+  return k;
+}
+
+PlaneMapping PlanMapping(
+    const TestPlan& plan, VideoReader* reader,
+    const CameraIntrinsics& intrinsics, int tag_frames, std::string* source,
+    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners) {
+  const std::string& video_path = reader->path();
+  const CalibrationSpec& c = plan.calibration;
+  if (c.tag) {
+    *source = fmt::format("tag {}", c.tag->id);
+    const std::array<Eigen::Vector2d, 4> corners =
+        TagCornersFromVideo(plan, reader, tag_frames);
+    if (tag_corners != nullptr) *tag_corners = corners;
+    return PlaneMapping::FromTag(intrinsics, corners, c.tag->size_mm,
+                                 c.plane_offset_mm);
+  }
+  const double rotation = c.image_rotation_deg * std::numbers::pi / 180.0;
+  if (c.mm_per_px) {
+    *source = "mm_per_px";
+    return PlaneMapping::FromScale(intrinsics, *c.mm_per_px, rotation);
+  }
+  if (c.scale_from_dots) {
+    VideoFrame frame;
+    if (!reader->Read(&frame)) {
+      throw InputError(video_path + ": the video has no frames");
+    }
+    const HeadMarkers head = PlanHeadMarkers(plan).front();
+    const LayoutScale scale =
+        MeasureLayoutScale(VideoFrameSource(reader, &frame), head, intrinsics);
+    if (!scale.found) {
+      throw InputError(fmt::format(
+          "{}: scale_from_dots: head '{}': {}; or give calibration.tag or "
+          "mm_per_px in {}",
+          video_path, head.name, scale.why_not, plan.path));
+    }
+    *source = fmt::format("dots of head '{}'", head.name);
+    return PlaneMapping::FromScale(intrinsics, scale.mm_per_px, rotation);
+  }
+  throw InputError(plan.path +
+                   ": calibration needs a tag, mm_per_px or scale_from_dots "
+                   "to turn pixels into millimetres");
+}
+
+std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan) {
+  std::vector<HeadMarkers> heads;
+  for (const MarkerSpec& m : plan.markers) {
+    HeadMarkers h;
+    h.name = plan.mechanism.heads[m.head].name;
+    h.color_name = m.color;
+    h.color = HsvRange::FromBounds(MarkerHsvBounds(m));
+    h.dots = m.dots;
+    h.dot_diameter_mm = m.dot_diameter_mm;
+    h.layout_mm = m.layout_mm;
+    heads.push_back(h);
+  }
+  return heads;
+}
+
+}  // namespace softbench

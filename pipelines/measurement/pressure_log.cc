@@ -1,0 +1,83 @@
+#include "pipelines/measurement/pressure_log.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipelines/formats/pressure_csv.h"
+#include "util/input_error.h"
+#include "util/statistics.h"
+
+namespace softbench {
+
+std::vector<PressureHold> PressureLogHolds(
+    const std::vector<double>& times_s,
+    const std::vector<Eigen::VectorXd>& pressures, double tolerance) {
+  std::vector<PressureHold> holds;
+  bool open = false;
+  for (size_t i = 0; i < pressures.size(); ++i) {
+    const bool zero = pressures[i].cwiseAbs().maxCoeff() <= tolerance;
+    const bool same =
+        open && (pressures[i] - holds.back().pressures).cwiseAbs().maxCoeff() <=
+                    tolerance;
+    if (open && !same) {
+      holds.back().end_s = times_s[i];
+      open = false;
+    }
+    if (!open && !zero) {
+      holds.push_back({times_s[i], times_s[i], pressures[i]});
+      open = true;
+    }
+  }
+  // A hold still open at the log's end lasts to its last row.
+  if (open) holds.back().end_s = times_s.back();
+  return holds;
+}
+
+std::vector<PressureHold> PlanPressureHolds(const TestPlan& plan,
+                                            const std::string& path) {
+  std::vector<double> times_s;
+  const std::vector<Eigen::VectorXd> rows =
+      ReadPressureRows(path, plan.mechanism.NumActuators(), &times_s);
+  std::vector<PressureHold> holds = PressureLogHolds(times_s, rows, 1e-6);
+  if (holds.size() != plan.tests.size()) {
+    throw InputError(fmt::format(
+        "{}: the log holds {} sets of pressures but the plan lists {} "
+        "tests; give the plan one test per hold, in order",
+        path, holds.size(), plan.tests.size()));
+  }
+  for (size_t i = 0; i < holds.size(); ++i) {
+    const PressureHold& hold = holds[i];
+    if ((hold.pressures - plan.tests[i].pressures).cwiseAbs().maxCoeff() >
+        1e-6) {
+      throw InputError(fmt::format(
+          "{}: hold {} (from t = {} s) is ({}) but plan test '{}' is ({}); "
+          "the plan's tests must follow the log's order",
+          path, i + 1, hold.start_s, fmt::join(hold.pressures, ", "),
+          plan.tests[i].id, fmt::join(plan.tests[i].pressures, ", ")));
+    }
+  }
+  return holds;
+}
+
+PressureLogAlignment AlignPressureLog(const std::vector<PressureHold>& holds,
+                                      const TestPointDetection& detection) {
+  std::vector<double> offsets;
+  const size_t n = std::min(holds.size(), detection.points.size());
+  for (size_t i = 0; i < n; ++i) {
+    offsets.push_back(detection.points[i].actuate_s - holds[i].start_s);
+    offsets.push_back(detection.points[i].release_s - holds[i].end_s);
+  }
+  PressureLogAlignment alignment;
+  if (offsets.empty()) return alignment;
+  alignment.offset_s = Median(offsets);
+  for (double offset : offsets) {
+    alignment.spread_s =
+        std::max(alignment.spread_s, std::abs(offset - alignment.offset_s));
+  }
+  return alignment;
+}
+
+}  // namespace softbench

@@ -1,0 +1,381 @@
+#include "pipelines/measurement/video_measurement.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <thread>
+
+#include "pipelines/measurement/distortion_check.h"
+#include "pipelines/measurement/plan_camera.h"
+#include "pipelines/measurement/span_measurer.h"
+#include "util/check.h"
+#include "util/input_error.h"
+#include "util/parallel_tasks.h"
+#include "util/progress.h"
+#include "util/statistics.h"
+
+namespace softbench {
+
+std::optional<std::string> VideoMeasurementOptions::Check() const {
+  if (tag_frames < 1) return "tag_frames must be >= 1";
+  if (!(rest_s > 0.0)) return "rest_s must be > 0";
+  if (auto problem = registration.Check()) return problem;
+  if (auto problem = camera_path.Check()) return problem;
+  return tracker.Check();
+}
+
+namespace {
+
+// Sorted spans, overlapping (or touching) ones merged, those starting
+// beyond the video's last frame dropped.
+std::vector<TimeSpan> MergeSpans(std::vector<TimeSpan> spans, double duration_s,
+                                 double half_frame_s) {
+  std::sort(spans.begin(), spans.end(),
+            [](const TimeSpan& a, const TimeSpan& b) {
+              return a.start_s < b.start_s;
+            });
+  std::vector<TimeSpan> merged;
+  for (TimeSpan span : spans) {
+    span.start_s = std::max(span.start_s, 0.0);
+    if (span.start_s >= span.end_s ||
+        span.start_s > duration_s - half_frame_s) {
+      continue;
+    }
+    if (!merged.empty() && span.start_s <= merged.back().end_s + half_frame_s) {
+      merged.back().end_s = std::max(merged.back().end_s, span.end_s);
+    } else {
+      merged.push_back(span);
+    }
+  }
+  return merged;
+}
+
+// Replaces each registered frame's own camera motion by the camera's path
+// (SmoothCameraPath: knocks kept, a codec's slow wobble of the static edges
+// averaged) and measures its heads again through it.
+void FollowCameraPath(const PlaneMapping& mapping, const HeadTracker& tracker,
+                      const CameraPathOptions& options, double frame_interval_s,
+                      std::vector<FrameSample>* frames) {
+  std::vector<double> times;
+  std::vector<CameraMotion> raw;
+  std::vector<bool> valid;
+  for (const FrameSample& f : *frames) {
+    times.push_back(f.time_s);
+    raw.push_back(f.camera_motion);
+    valid.push_back(f.registered);
+  }
+  const std::vector<CameraMotion> path = SmoothCameraPath(
+      mapping.intrinsics(), times, raw, valid, 2.5 * frame_interval_s, options);
+  for (size_t i = 0; i < frames->size(); ++i) {
+    FrameSample& f = (*frames)[i];
+    if (!f.registered) continue;
+    f.camera_motion = path[i];
+    f.camera_shift_px = path[i].ShiftPx(mapping.intrinsics());
+    f.camera_roll_rad = path[i].roll_rad();
+    const PlaneMapping moved =
+        mapping.AfterCameraMotion(path[i].CurrentFromReference());
+    for (size_t h = 0; h < f.heads.size(); ++h) {
+      tracker.Remap(static_cast<int>(h), moved, &f.heads[h].observation);
+    }
+  }
+}
+
+// The measurement's video facts, before any frame is measured.
+VideoMeasurement StartMeasurement(const VideoReader& reader) {
+  const VideoInfo& info = reader.info();
+  VideoMeasurement m;
+  m.video_path = reader.path();
+  m.fps = info.fps;
+  m.frame_interval_s = info.frame_interval_s;
+  m.video_format = info.Description();
+  return m;
+}
+
+// The snapshots' times and their nearest frames' times, in frame order.
+std::vector<SnapshotTime> SnapshotTimes(const VideoInfo& info,
+                                        const std::vector<double>& times_s) {
+  std::vector<SnapshotTime> snapshot_times;
+  for (const double t : times_s) {
+    snapshot_times.push_back(
+        {t, info.frame_times_s.empty()
+                ? t
+                : info.frame_times_s[info.NearestFrame(t)]});
+  }
+  std::sort(snapshot_times.begin(), snapshot_times.end(),
+            [](const SnapshotTime& a, const SnapshotTime& b) {
+              return a.frame_s < b.frame_s;
+            });
+  return snapshot_times;
+}
+
+// Every frame, or the frames of the spans in time order (overlapping ones
+// merged, those beyond the video dropped); `frames_wanted` receives their
+// number, for the progress bar.
+std::vector<TimeSpan> MeasuredSpans(const VideoInfo& info,
+                                    const std::vector<TimeSpan>& requested,
+                                    int64_t* frames_wanted) {
+  const double half_frame_s = 0.5 * info.frame_interval_s;
+  if (requested.empty()) {
+    *frames_wanted = info.frame_count;
+    return {{-half_frame_s, INFINITY}};
+  }
+  std::vector<TimeSpan> spans =
+      MergeSpans(requested, info.duration_s, half_frame_s);
+  *frames_wanted = 0;
+  for (const TimeSpan& span : spans) {
+    *frames_wanted += static_cast<int64_t>(
+        std::ceil((std::min(span.end_s, info.duration_s) - span.start_s) /
+                  info.frame_interval_s));
+  }
+  return spans;
+}
+
+// What registers the frames to the bench: the reference from the first
+// frame, and the registration each measurer copies.
+struct Registrations {
+  std::optional<RegistrationReference> reference;
+  CameraIntrinsics intrinsics;
+  BenchRegistrationOptions options;
+
+  std::unique_ptr<BenchRegistration> Make() const {
+    if (!reference) return nullptr;
+    return std::make_unique<BenchRegistration>(intrinsics, reference->luma,
+                                               reference->static_mask,
+                                               reference->tag, options);
+  }
+};
+
+// Without a tag, only static structure can register the frames; a plan
+// with neither (a scale, a plain table) keeps the still camera it always
+// assumed, and says so in `why_still`.
+Registrations MakeRegistrations(
+    const TestPlan& plan, const FrameSource& first, const PlaneMapping& mapping,
+    const CameraIntrinsics& intrinsics,
+    const std::optional<std::array<Eigen::Vector2d, 4>>& tag_corners,
+    const VideoMeasurementOptions& options, std::string* why_still) {
+  Registrations r{std::nullopt, intrinsics, options.registration};
+  *why_still = "off: the camera is taken to be still";
+  if (!options.register_frames) return r;
+  r.reference = MakeRegistrationReference(plan, first, mapping, tag_corners);
+  if (!r.reference->tag &&
+      r.Make()->patch_count() < options.registration.min_patches) {
+    r.reference.reset();
+    *why_still =
+        "off: no tag in the plan and too little static structure in view; "
+        "the camera is taken to be still";
+  }
+  return r;
+}
+
+// The windows in parallel: the first frame alone (it sets the heads'
+// references - rotation, dot offsets - that every later frame is measured
+// against), then each worker a share of the spans in time order with its
+// own single-threaded decoder (after a seek, frame threads never fill up)
+// and a copy of the tracker; the first continues where it stopped.
+void MeasureWindows(const std::vector<TimeSpan>& spans, double half_frame_s,
+                    const std::function<SpanMeasurer(VideoReader*)>& make,
+                    std::vector<SpanMeasurer>* measurers,
+                    std::vector<std::unique_ptr<VideoReader>>* readers,
+                    ProgressBar* progress,
+                    const std::atomic<int64_t>& frames_done) {
+  SpanMeasurer& first = measurers->front();
+  first.Measure({spans.front().start_s, spans.front().start_s + half_frame_s},
+                SpanMeasurer::Start::kSeek, nullptr, [] {});
+  const int jobs = static_cast<int>(std::min<size_t>(
+      spans.size(), std::max(1u, std::thread::hardware_concurrency())));
+  for (int j = 1; j < jobs; ++j) {
+    readers->push_back(std::make_unique<VideoReader>(
+        first.path(), VideoReaderOptions{
+                          .want_luma = true, .want_bgr = false, .threads = 1}));
+    measurers->push_back(make(readers->back().get()));
+  }
+  RunParallelTasks(
+      jobs, jobs,
+      [&](int j) {
+        for (size_t i = spans.size() * j / jobs;
+             i < spans.size() * (j + 1) / jobs; ++i) {
+          (*measurers)[j].Measure(
+              spans[i],
+              i > 0 ? SpanMeasurer::Start::kSeek : SpanMeasurer::Start::kReadOn,
+              nullptr, [] {});
+        }
+      },
+      [&] { progress->Update(frames_done); });
+}
+
+// Each head's rest position: the median over the frames before the first
+// actuation (plan times) or the first `rest_s`; then every frame's
+// displacements from it.
+void SetDisplacements(const TestPlan& plan, double rest_s,
+                      VideoMeasurement* m) {
+  double rest_end = rest_s;
+  if (plan.HasTimes()) {
+    rest_end = *plan.tests.front().actuate_s;
+    for (const PlanTest& t : plan.tests)
+      rest_end = std::min(rest_end, *t.actuate_s);
+  }
+  for (size_t h = 0; h < plan.markers.size(); ++h) {
+    std::vector<double> ys, zs;
+    for (const FrameSample& f : m->frames) {
+      const HeadObservation& obs = f.heads[h].observation;
+      if (f.time_s < rest_end && obs.complete) {
+        ys.push_back(obs.position_mm.x());
+        zs.push_back(obs.position_mm.y());
+      }
+    }
+    if (ys.empty()) {
+      throw InputError(fmt::format(
+          "{}: head '{}' was not seen whole before t = {:.3f} s, so it has "
+          "no rest position; start the video at rest",
+          m->video_path, plan.mechanism.heads[plan.markers[h].head].name,
+          rest_end));
+    }
+    m->rest_mm.emplace_back(Median(ys), Median(zs));
+  }
+  for (FrameSample& f : m->frames) {
+    for (size_t h = 0; h < f.heads.size(); ++h) {
+      HeadSample& s = f.heads[h];
+      s.displacement_mm = s.observation.position_mm - m->rest_mm[h];
+      s.binary_displacement_mm =
+          s.observation.binary_position_mm - m->rest_mm[h];
+    }
+  }
+}
+
+// Refuses a measurement with no frames, or with most of them not
+// registered to the bench.
+void CheckFramesRegistered(const VideoMeasurement& m) {
+  if (m.frames.empty()) {
+    throw InputError(m.video_path + ": the video has no frames");
+  }
+  if (2 * m.unregistered_frames > static_cast<int>(m.frames.size())) {
+    throw InputError(fmt::format(
+        "{}: {} of {} frames could not be registered to the bench ({}: {}); "
+        "keep the plan's tag uncovered and in view for the whole video",
+        m.video_path, m.unregistered_frames, m.frames.size(),
+        UnregisteredSpans(m.frames), m.unregistered_reason));
+  }
+}
+
+}  // namespace
+
+VideoReaderOptions MeasurementReaderOptions(bool every_frame) {
+  // Frame threads for a run through every frame; one thread for windows
+  // (after a seek, frame threads never fill up).
+  return {.want_luma = true, .want_bgr = false, .threads = every_frame ? 0 : 1};
+}
+
+VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
+                              const VideoMeasurementOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  const VideoInfo& info = reader->info();
+  const CameraIntrinsics intrinsics =
+      PlanIntrinsics(plan, info.width_px, info.height_px);
+  VideoMeasurement m = StartMeasurement(*reader);
+  std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
+  const PlaneMapping mapping =
+      PlanMapping(plan, reader, intrinsics, options.tag_frames, &m.scale_source,
+                  &tag_corners);
+  m.mm_per_px = mapping.MmPerPixelAt(
+      Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
+  m.mapping = mapping;
+
+  // Back to the first frame: the registration's reference, and where a run
+  // through every frame starts.
+  const VideoFrame first = reader->SeekTo(
+      info.frame_times_s.empty() ? 0.0 : info.frame_times_s.front());
+  std::string why_still;
+  const Registrations registrations =
+      MakeRegistrations(plan, VideoFrameSource(reader, &first), mapping,
+                        intrinsics, tag_corners, options, &why_still);
+  const std::vector<SnapshotTime> snapshot_times =
+      SnapshotTimes(info, options.snapshot_times_s);
+  m.every_frame = options.spans.empty();
+  int64_t frames_wanted = 0;
+  const std::vector<TimeSpan> spans =
+      MeasuredSpans(info, options.spans, &frames_wanted);
+
+  ProgressBar progress("measure", frames_wanted, options.progress);
+  std::atomic<int64_t> frames_done{0};
+  std::vector<SpanMeasurer> measurers;
+  measurers.reserve(std::max(1u, std::thread::hardware_concurrency()));
+  const auto make = [&](VideoReader* r) {
+    return SpanMeasurer(
+        plan, r, mapping, m.mm_per_px,
+        measurers.empty()
+            ? HeadTracker(mapping, PlanHeadMarkers(plan), options.tracker)
+            : measurers.front().tracker(),
+        registrations.Make(), snapshot_times, &frames_done);
+  };
+  measurers.push_back(make(reader));
+  measurers.front().RequireCompleteFirstFrame();
+  m.registers_frames = registrations.reference.has_value();
+  m.registration = m.registers_frames
+                       ? fmt::format("every frame, by {}{} static patches",
+                                     registrations.reference->tag
+                                         ? fmt::format("tag {} and ",
+                                                       plan.calibration.tag->id)
+                                         : "",
+                                     measurers.front().patch_count())
+                       : why_still;
+  std::vector<std::unique_ptr<VideoReader>> window_readers;
+  if (m.every_frame) {
+    measurers.front().Measure(spans.front(), SpanMeasurer::Start::kCurrent,
+                              &first, [&] { progress.Update(frames_done); });
+  } else if (!spans.empty()) {
+    MeasureWindows(spans, 0.5 * info.frame_interval_s, make, &measurers,
+                   &window_readers, &progress, frames_done);
+  }
+  progress.Finish();
+  for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
+  if (m.registers_frames) {
+    FollowCameraPath(mapping, measurers.front().tracker(), options.camera_path,
+                     info.frame_interval_s, &m.frames);
+  }
+  CheckFramesRegistered(m);
+  m.last_frame_s = m.every_frame ? m.frames.back().time_s : info.LastFrameS();
+  SetDisplacements(plan, options.rest_s, &m);
+  if (plan.calibration.intrinsics_path.empty()) {
+    m.distortion = CheckDistortion(plan, m.frames, m.scale_source);
+  }
+  return m;
+}
+
+VideoMeasurement MeasureVideo(const TestPlan& plan,
+                              const std::string& video_path,
+                              const VideoMeasurementOptions& options) {
+  VideoReader reader(video_path,
+                     MeasurementReaderOptions(options.spans.empty()));
+  return MeasureVideo(plan, &reader, options);
+}
+
+std::string UnregisteredSpans(const std::vector<FrameSample>& frames) {
+  std::vector<std::string> spans;
+  for (size_t i = 0; i < frames.size();) {
+    if (frames[i].registered) {
+      ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j + 1 < frames.size() && !frames[j + 1].registered) ++j;
+    spans.push_back(i == j ? fmt::format("frame {} (t = {:.3f} s)",
+                                         frames[i].frame, frames[i].time_s)
+                           : fmt::format("frames {}-{} (t = {:.3f}-{:.3f} s)",
+                                         frames[i].frame, frames[j].frame,
+                                         frames[i].time_s, frames[j].time_s));
+    i = j + 1;
+  }
+  std::string text;
+  for (size_t k = 0; k < spans.size() && k < 5; ++k) {
+    text += (k > 0 ? ", " : "") + spans[k];
+  }
+  if (spans.size() > 5) {
+    text += fmt::format(" and {} more stretches", spans.size() - 5);
+  }
+  return text;
+}
+
+}  // namespace softbench

@@ -1,0 +1,148 @@
+#ifndef SOFTBENCH_PIPELINES_MEASUREMENT_VIDEO_MEASUREMENT_H_
+#define SOFTBENCH_PIPELINES_MEASUREMENT_VIDEO_MEASUREMENT_H_
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipelines/formats/test_plan.h"
+#include "vision/bench_registration.h"
+#include "vision/camera_path.h"
+#include "vision/head_tracker.h"
+#include "vision/plane_mapping.h"
+#include "vision/video_reader.h"
+
+namespace softbench {
+
+// A stretch of video time, [start_s, end_s).
+struct TimeSpan {
+  double start_s = 0.0;
+  double end_s = 0.0;
+};
+
+struct VideoMeasurementOptions {
+  // Frames from the start whose tag corners are combined (median).
+  int tag_frames = 10;
+  // The rest position is the median over the frames before the first
+  // actuation (plan times) or, without times, over the first `rest_s`.
+  double rest_s = 1.0;
+  HeadTrackerOptions tracker;
+  // Register every frame to the bench through the plan's tag, so a camera
+  // that drifts, trembles or is bumped does not move the heads (plans with
+  // a tag; without one the camera is taken to be still).
+  bool register_frames = true;
+  BenchRegistrationOptions registration;
+  CameraPathOptions camera_path;
+  // Only the frames in these spans are measured, seeking from one to the
+  // next (validate --windows-only); empty: every frame.
+  std::vector<TimeSpan> spans;
+  // Times whose frames' head crops are kept (for the report's pictures).
+  std::vector<double> snapshot_times_s;
+  bool progress = true;
+
+  std::optional<std::string> Check() const;
+};
+
+// One head in one frame.
+struct HeadSample {
+  HeadObservation observation;
+  // Displacement from the head's rest position [mm] (NaN when no dot was
+  // found), from the luma-refined centres and from the thesis's binary ones.
+  Eigen::Vector2d displacement_mm;
+  Eigen::Vector2d binary_displacement_mm;
+};
+
+struct FrameSample {
+  int64_t frame = 0;
+  double time_s = 0.0;
+  std::vector<HeadSample> heads;  // in the plan's head order
+  // The frame's registration to the bench: false when the tag could not be
+  // located (the heads are then not measured in this frame: never against a
+  // stale registration). The camera's shift since the reference frames is
+  // that of the content at the principal point [px]; roll clockwise [rad].
+  bool registered = true;
+  CameraMotion camera_motion;  // the camera's path (SmoothCameraPath)
+  Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Zero();
+  double camera_roll_rad = 0.0;
+};
+
+// The heads of one frame, cut out for the report's annotated pictures.
+struct HeadCrop {
+  cv::Mat bgr;                // CV_8UC3
+  Eigen::Vector2d origin_px;  // the crop's top-left corner in the frame
+};
+
+struct FrameSnapshot {
+  double requested_s = 0.0;  // the time asked for
+  int64_t frame = 0;
+  double time_s = 0.0;
+  std::vector<HeadCrop> heads;  // in the plan's head order
+};
+
+// The distortion check without intrinsics: the dots' spacing, measured
+// through the mapping, over the plan's layout spacing, at every frame.
+struct DistortionCheck {
+  bool performed = false;
+  double median_ratio = 1.0;
+  double min_ratio = 1.0, max_ratio = 1.0;  // 5th and 95th percentiles
+  double tolerance = 0.0;
+  bool warn = false;
+  std::string message;
+};
+
+struct VideoMeasurement {
+  std::string video_path;
+  std::string scale_source;  // "tag 0 (10 frames)", "mm_per_px", ...
+  double mm_per_px = 0.0;    // at the image centre, dot plane
+  std::vector<Eigen::Vector2d> rest_mm;  // per head, plane coordinates
+  std::vector<FrameSample> frames;       // in time order
+  double fps = 0.0;                      // average
+  // The median interval between frames (phones write variable frame rate).
+  double frame_interval_s = 0.0;
+  // The video's format and colours (VideoInfo::Description()).
+  std::string video_format;
+  // Time of the video's last frame (its end, as far as windows go).
+  double last_frame_s = 0.0;
+  bool every_frame = true;  // false: only the requested spans were read
+  std::optional<PlaneMapping> mapping;
+  std::vector<FrameSnapshot> snapshots;  // in time order
+  int missing_dots = 0;                  // dot-frames without a dot
+  int full_frame_frames = 0;  // frames that needed a full-image search
+  int rejected_blobs = 0;     // same-colour blobs rejected in all frames
+  // How frames were registered to the bench ("every frame, by tag 3", or
+  // why not), and the frames that could not be, with the first reason.
+  std::string registration;
+  bool registers_frames = false;
+  int unregistered_frames = 0;
+  std::string unregistered_reason;
+  DistortionCheck distortion;
+};
+
+// Measures every frame of a video of the plan's mechanism (thesis 4.1.3,
+// done with sub-pixel centres and a calibrated scale). Throws InputError
+// when the scale or the first frame's heads cannot be found, saying what was
+// seen and what to change.
+// `reader` is the video opened once for all of it (MeasurementReaderOptions,
+// at its start): the tag's frames, the first frame's reference, every frame
+// or the windows, and later CaptureSnapshots all go through it.
+VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
+                              const VideoMeasurementOptions& options);
+// The same, opening the video.
+VideoMeasurement MeasureVideo(const TestPlan& plan,
+                              const std::string& video_path,
+                              const VideoMeasurementOptions& options);
+
+// How MeasureVideo wants its reader: luma only, frame threads when reading
+// every frame, one thread when seeking from window to window.
+VideoReaderOptions MeasurementReaderOptions(bool every_frame);
+
+// The stretches of frames that could not be registered to the bench, for
+// messages: "frames 61-330 (t = 2.033-11.000 s), frame 402 (...)" (at most
+// five, then how many more).
+std::string UnregisteredSpans(const std::vector<FrameSample>& frames);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_MEASUREMENT_VIDEO_MEASUREMENT_H_

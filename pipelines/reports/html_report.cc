@@ -1,0 +1,150 @@
+#include "pipelines/reports/html_report.h"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "util/input_error.h"
+#include "util/text_file.h"
+
+namespace softbench {
+namespace {
+
+std::string Escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+// Text made safe inside <script>: every `pattern` (which would end the
+// element early) gets its slash escaped, which JavaScript strings, regular
+// expressions and JSON all read back as a plain slash.
+std::string EscapeSlashAfter(std::string text, std::string_view pattern) {
+  for (size_t at = 0; (at = text.find(pattern, at)) != std::string::npos;
+       at += 2) {
+    text.insert(at + 1, "\\");
+  }
+  return text;
+}
+
+constexpr const char* kStyle = R"(
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px;
+       color: #222; line-height: 1.4; }
+h1 { font-size: 1.6em; } h2 { font-size: 1.25em; margin-top: 2em; }
+table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
+th { background: #f3f3f3; } td:first-child, th:first-child { text-align: left; }
+.chart { margin: 1em 0; }
+.figures { display: flex; flex-wrap: wrap; gap: 0.8em; margin: 0.5em 0; }
+figure { margin: 0; } figcaption { font-size: 0.8em; max-width: 300px; }
+figure svg { width: 300px; height: auto; background: #000; }
+)";
+
+}  // namespace
+
+std::string ReportAssetsDirectory() {
+  if (const char* assets = std::getenv("SOFTBENCH_REPORT_ASSETS")) {
+    return assets;
+  }
+  return SOFTBENCH_REPORT_ASSETS_DIR;
+}
+
+HtmlReport::HtmlReport(std::string title) : title_(std::move(title)) {}
+
+void HtmlReport::AddHeading(const std::string& text) {
+  body_ += "<h2>" + Escape(text) + "</h2>\n";
+}
+
+void HtmlReport::AddParagraph(const std::string& text) {
+  body_ += "<p>" + Escape(text) + "</p>\n";
+}
+
+void HtmlReport::AddLink(const std::string& text, const std::string& href) {
+  body_ += "<p><a href=\"" + Escape(href) + "\">" + Escape(text) + "</a></p>\n";
+}
+
+void HtmlReport::AddTable(const std::vector<std::string>& header,
+                          const std::vector<std::vector<std::string>>& rows) {
+  body_ += "<table><tr>";
+  for (const std::string& cell : header)
+    body_ += "<th>" + Escape(cell) + "</th>";
+  body_ += "</tr>\n";
+  for (const std::vector<std::string>& row : rows) {
+    body_ += "<tr>";
+    for (const std::string& cell : row)
+      body_ += "<td>" + Escape(cell) + "</td>";
+    body_ += "</tr>\n";
+  }
+  body_ += "</table>\n";
+}
+
+void HtmlReport::AddChart(const nlohmann::json& vega_lite) {
+  body_ += fmt::format("<div class=\"chart\" id=\"chart{}\"></div>\n",
+                       charts_.size());
+  charts_.push_back(vega_lite);
+}
+
+void HtmlReport::AddFigures(const std::vector<Figure>& figures) {
+  body_ += "<div class=\"figures\">\n";
+  for (const Figure& figure : figures) {
+    body_ += "<figure>" + figure.svg + "<figcaption>" + Escape(figure.caption) +
+             "</figcaption></figure>\n";
+  }
+  body_ += "</div>\n";
+}
+
+std::string HtmlReport::Render() const {
+  // The plotting libraries and the charts, only for a page that has some.
+  std::string scripts;
+  if (!charts_.empty()) {
+    const std::filesystem::path assets(ReportAssetsDirectory());
+    for (const char* library :
+         {"vega/build/vega.min.js", "vega-lite/build/vega-lite.min.js",
+          "vega-embed/build/vega-embed.min.js"}) {
+      const std::filesystem::path path = assets / library;
+      if (!std::filesystem::exists(path)) {
+        throw InputError(path.string() +
+                         ": the report's plotting library is missing; run "
+                         "scripts/bootstrap.sh (it installs report/ with npm) "
+                         "or set SOFTBENCH_REPORT_ASSETS");
+      }
+      scripts += "<script>" +
+                 EscapeSlashAfter(ReadTextFile(path.string(), "report asset"),
+                                  "</script") +
+                 "</script>\n";
+    }
+  }
+  std::string embed;
+  for (size_t i = 0; i < charts_.size(); ++i) {
+    embed += fmt::format(
+        "<script>vegaEmbed('#chart{}', {}, {{actions: false, renderer: "
+        "'svg'}});</script>\n",
+        i, EscapeSlashAfter(charts_[i].dump(), "</"));
+  }
+  return fmt::format(
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+      "<title>{0}</title>\n<style>{1}</style>\n{2}</head>\n<body>\n"
+      "<h1>{0}</h1>\n{3}{4}</body></html>\n",
+      Escape(title_), kStyle, scripts, body_, embed);
+}
+
+}  // namespace softbench

@@ -1,0 +1,204 @@
+#include "pipelines/reports/validation_files.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <numbers>
+
+#include "pipelines/reports/html_report.h"
+#include "pipelines/reports/validation_report.h"
+
+namespace softbench {
+
+using nlohmann::json;
+
+std::string TrajectoryCsv(const TestPlan& plan,
+                          const VideoMeasurement& measurement) {
+  std::string csv =
+      "frame,time_s,head,u_px,v_px,y_mm,z_mm,sigma_mm,dots_found,dots,"
+      "rotation_rad,binary_y_mm,binary_z_mm,full_frame,registered,"
+      "camera_dx_px,camera_dy_px,camera_roll_rad,note\n";
+  for (const FrameSample& f : measurement.frames) {
+    for (size_t h = 0; h < f.heads.size(); ++h) {
+      const HeadSample& s = f.heads[h];
+      const HeadObservation& o = s.observation;
+      std::string note = o.note;
+      std::replace(note.begin(), note.end(), ',', ';');
+      csv += fmt::format(
+          "{},{:.6f},{},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{},{},{:.6f},"
+          "{:.5f},{:.5f},{},{},{:.4f},{:.4f},{:.7f},{}\n",
+          f.frame, f.time_s, plan.mechanism.heads[plan.markers[h].head].name,
+          o.pixel.x(), o.pixel.y(), s.displacement_mm.x(),
+          s.displacement_mm.y(), o.sigma_mm, o.dots_found, o.dots.size(),
+          o.rotation_rad, s.binary_displacement_mm.x(),
+          s.binary_displacement_mm.y(), o.full_frame ? 1 : 0,
+          f.registered ? 1 : 0, f.camera_shift_px.x(), f.camera_shift_px.y(),
+          f.camera_roll_rad, note);
+    }
+  }
+  return csv;
+}
+
+std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
+  std::string csv = "test_id,head";
+  for (int k = 1; k <= plan.mechanism.NumActuators(); ++k) {
+    csv += fmt::format(",p{}", k);
+  }
+  csv +=
+      ",initial_y_mm,initial_z_mm,actuated_y_mm,actuated_z_mm,final_y_mm,"
+      "final_z_mm,measured_dy_mm,measured_dz_mm,model_dy_mm,model_dz_mm,"
+      "model_error_mm,baseline_dy_mm,baseline_dz_mm,baseline_error_mm,"
+      "hysteresis_mm,hysteresis_ok,status\n";
+  for (const TestScore& t : r.tests) {
+    for (size_t h = 0; h < t.heads.size(); ++h) {
+      const HeadScore& s = t.heads[h];
+      csv += t.id + "," + plan.mechanism.heads[h].name;
+      for (int k = 0; k < t.pressures.size(); ++k) {
+        csv += fmt::format(",{:g}", t.pressures[k]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        csv += "," + FormatMm(t.windows[k].median_mm[h].x()) + "," +
+               FormatMm(t.windows[k].median_mm[h].y());
+      }
+      for (const Eigen::Vector2d& v : {s.measured_mm, s.model_mm}) {
+        csv += "," + FormatMm(v.x()) + "," + FormatMm(v.y());
+      }
+      csv += "," + FormatMm(s.model_error_mm) + "," +
+             FormatMm(s.baseline_mm.x()) + "," + FormatMm(s.baseline_mm.y()) +
+             "," + FormatMm(s.baseline_error_mm) + "," +
+             FormatMm(s.hysteresis_mm) + "," +
+             (t.measured ? (s.hysteresis_ok ? "1" : "0") : "") + "," +
+             t.status + "\n";
+    }
+  }
+  return csv;
+}
+
+json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
+                 const ValidationResult& r) {
+  json root;
+  root["video"] = m.video_path;
+  root["plan"] = plan.path;
+  root["mechanism"] = plan.mechanism.name;
+  root["model"] = r.model_name;
+  root["times_source"] = r.times_source;
+  root["baseline"] = r.baseline_name;
+  root["calibration"] = {
+      {"scale_source", m.scale_source},
+      {"mm_per_px", m.mm_per_px},
+      {"tilt_deg", m.mapping->TiltRad() * 180.0 / std::numbers::pi},
+      {"distortion_check", m.distortion.message},
+      {"distortion_warning", m.distortion.warn}};
+  root["registration"] = {{"method", m.registration},
+                          {"unregistered_frames", m.unregistered_frames},
+                          {"first_reason", m.unregistered_reason},
+                          {"camera_moved_windows", r.camera_moved_windows}};
+  root["frames"] = m.frames.size();
+  root["every_frame"] = m.every_frame;
+  root["missing_dots"] = m.missing_dots;
+  root["full_frame_frames"] = m.full_frame_frames;
+  for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
+    const auto stats = [](const ErrorStatistics& s) {
+      return json{{"tests", s.tests},
+                  {"mean_mm", JsonNumber(s.mean_mm)},
+                  {"max_mm", JsonNumber(s.max_mm)},
+                  {"rms_mm", JsonNumber(s.rms_mm)}};
+    };
+    root["heads"].push_back(
+        {{"head", plan.mechanism.heads[h].name},
+         {"model_error", stats(r.model_errors[h])},
+         {"baseline_error", stats(r.baseline_errors[h])},
+         {"improvement_percent", JsonNumber(r.improvement_percent[h])}});
+  }
+  for (const RepeatAgreement& group : r.repeats) {
+    root["repeats"].push_back({{"tests", group.test_ids},
+                               {"max_difference_mm", group.max_difference_mm}});
+  }
+  root["hysteresis"] = {{"tolerance_mm", plan.hysteresis_tolerance_mm},
+                        {"flagged", r.hysteresis_flagged},
+                        {"shared_cause", r.hysteresis_cause}};
+  root["warnings"] = r.warnings;
+  for (const TestScore& t : r.tests) {
+    json test = {{"id", t.id}, {"status", t.status}, {"reason", t.reason}};
+    for (int k = 0; k < 3; ++k) {
+      const WindowSummary& w = t.windows[k];
+      json window = {{"start_s", w.start_s},
+                     {"end_s", w.end_s},
+                     {"frames", w.frames},
+                     {"unregistered_frames", w.unregistered_frames},
+                     {"camera_shift_px",
+                      {JsonNumber(w.camera_shift_px.x()),
+                       JsonNumber(w.camera_shift_px.y())}},
+                     {"camera_motion_px", w.camera_motion_px}};
+      for (size_t h = 0; h < w.median_mm.size(); ++h) {
+        window["heads"].push_back(
+            {{"frames", w.head_frames[h]},
+             {"median_mm",
+              {JsonNumber(w.median_mm[h].x()), JsonNumber(w.median_mm[h].y())}},
+             {"spread_mm",
+              {JsonNumber(w.spread_mm[h].x()),
+               JsonNumber(w.spread_mm[h].y())}}});
+      }
+      test["windows"][kWindowNames[k]] = window;
+    }
+    root["tests"].push_back(test);
+  }
+  return root;
+}
+
+void WriteValidationFiles(const VideoValidation& v,
+                          const std::string& directory_name) {
+  const std::filesystem::path directory(directory_name);
+  std::filesystem::create_directories(directory);
+  WriteFileAtomically((directory / "report.html").string(),
+                      ValidationReportHtml(v.plan, v.measurement, v.result));
+  WriteFileAtomically((directory / "results.csv").string(),
+                      ResultsCsv(v.plan, v.result));
+  WriteFileAtomically(
+      (directory / "summary.json").string(),
+      SummaryJson(v.plan, v.measurement, v.result).dump(2) + "\n");
+  WriteFileAtomically((directory / "trajectory.csv").string(),
+                      TrajectoryCsv(v.plan, v.measurement));
+}
+
+void WriteValidationIndex(const std::vector<VideoValidation>& videos,
+                          const std::vector<std::string>& names,
+                          const AtomicDirectory& report) {
+  HtmlReport index("Validation of " + std::to_string(videos.size()) +
+                   " videos");
+  std::string csv =
+      "video,report,head,tests_measured,model_mean_mm,model_max_mm,"
+      "baseline_mean_mm,improvement_percent,hysteresis_flagged\n";
+  std::vector<std::vector<std::string>> rows;
+  for (size_t i = 0; i < videos.size(); ++i) {
+    const VideoValidation& v = videos[i];
+    const ValidationResult& r = v.result;
+    index.AddLink(v.measurement.video_path, names[i] + "/report.html");
+    for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
+      const std::string flagged =
+          fmt::format("{}", fmt::join(r.hysteresis_flagged, " "));
+      csv += fmt::format(
+          "{},{}/report.html,{},{},{:.5f},{:.5f},{:.5f},{:.1f},{}\n",
+          v.measurement.video_path, names[i], v.plan.mechanism.heads[h].name,
+          r.model_errors[h].tests, r.model_errors[h].mean_mm,
+          r.model_errors[h].max_mm, r.baseline_errors[h].mean_mm,
+          r.improvement_percent[h], flagged);
+      rows.push_back({names[i], v.plan.mechanism.heads[h].name,
+                      std::to_string(r.model_errors[h].tests),
+                      FormatMm(r.model_errors[h].mean_mm),
+                      FormatMm(r.model_errors[h].max_mm),
+                      FormatMm(r.baseline_errors[h].mean_mm),
+                      fmt::format("{:.0f} %", r.improvement_percent[h]),
+                      flagged.empty() ? "none" : flagged});
+    }
+  }
+  index.AddTable({"video", "head", "tests", "model mean [mm]", "model max",
+                  "baseline mean", "improvement", "hysteresis flagged"},
+                 rows);
+  WriteFileAtomically(report.File("index.html"), index.Render());
+  WriteFileAtomically(report.File("index.csv"), csv);
+}
+
+}  // namespace softbench

@@ -1,0 +1,589 @@
+#include "pipelines/synthetic/scene_renderer.h"
+
+#include <apriltag/apriltag.h>
+#include <apriltag/tag36h11.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "model/units.h"
+#include "pipelines/formats/dot_colors.h"
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+// Layer colours (BGR, linear 0..255). Clear resin heads and ring, pale
+// bellows, a grey-brown table, white paper and black ink for the tag.
+const cv::Vec3f kRingColor(196, 200, 202);
+const cv::Vec3f kHeadColor(214, 217, 220);
+const cv::Vec3f kBellowsColor(176, 186, 196);
+const cv::Vec3f kTableColor(92, 108, 124);
+const cv::Vec3f kPaperColor(236, 238, 238);
+const cv::Vec3f kInkColor(22, 22, 24);
+const cv::Vec3f kGlintColor(255, 255, 255);
+
+bool InPolygon(const std::vector<Eigen::Vector2d>& ccw,
+               const Eigen::Vector2d& p) {
+  for (size_t i = 0; i < ccw.size(); ++i) {
+    const Eigen::Vector2d e = ccw[(i + 1) % ccw.size()] - ccw[i];
+    const Eigen::Vector2d d = p - ccw[i];
+    if (e.x() * d.y() - e.y() * d.x() < 0.0) return false;
+  }
+  return true;
+}
+
+// Pixels around the projections of plane points at `height`, with a margin
+// for anti-aliasing; the points must enclose the shape (projection maps
+// lines to lines, so the shape's image stays inside theirs).
+cv::Rect ImageBox(const Camera& camera,
+                  const std::vector<Eigen::Vector2d>& points, double height) {
+  std::vector<cv::Point2f> projected;
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2d q =
+        camera.Project(Eigen::Vector3d(p.x(), p.y(), height));
+    projected.emplace_back(static_cast<float>(q.x()),
+                           static_cast<float>(q.y()));
+  }
+  const cv::Rect r = cv::boundingRect(projected);
+  return {r.x - 3, r.y - 3, r.width + 6, r.height + 6};
+}
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                         const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+}  // namespace
+
+cv::Vec3f MarkerColorBgr(const std::string& name) {
+  const DotColor* color = FindDotColor(name);
+  if (color == nullptr) {
+    throw InputError("marker colour '" + name + "' is not " + DotColorNames());
+  }
+  return {static_cast<float>(color->ink_bgr[0]),
+          static_cast<float>(color->ink_bgr[1]),
+          static_cast<float>(color->ink_bgr[2])};
+}
+
+std::optional<std::string> RenderOptions::Check() const {
+  if (auto problem = intrinsics.Check()) return problem;
+  if (!(distance_mm > 50.0)) return "camera distance must be > 50 mm";
+  if (std::abs(tilt_x_deg) > 30.0 || std::abs(tilt_y_deg) > 30.0) {
+    return "tilt must be within +-30 deg";
+  }
+  if (supersampling < 1 || supersampling > 64) {
+    return "supersampling must be 1..64";
+  }
+  if (noise_sigma_dn < 0.0 || shot_noise_dn < 0.0) return "noise must be >= 0";
+  if (!(exposure_s >= 0.0)) return "exposure must be >= 0";
+  return std::nullopt;
+}
+
+// Pixel coordinates to ideal normalised coordinates. With distortion, the
+// normalised coordinates of every pixel corner are computed once (OpenCV's
+// iterative undistortion, run to convergence) and subsamples interpolate
+// bilinearly inside their pixel: the distortion's curvature over one pixel is
+// below 1e-4 px for |k1| <= 0.3 at 4K.
+struct PixelGrid {
+  double fx, fy, cx, cy;
+  int width = 0;
+  std::vector<Eigen::Vector2d> corners;  // (height + 1) x (width + 1)
+
+  Eigen::Vector2d At(double u, double v) const {
+    if (corners.empty()) return {(u - cx) / fx, (v - cy) / fy};
+    const double gx = u + 0.5, gy = v + 0.5;
+    const int i = std::clamp(static_cast<int>(std::floor(gx)), 0, width - 1);
+    const int rows = static_cast<int>(corners.size()) / (width + 1) - 1;
+    const int j = std::clamp(static_cast<int>(std::floor(gy)), 0, rows - 1);
+    const double a = gx - i, b = gy - j;
+    const Eigen::Vector2d* row0 = &corners[j * (width + 1) + i];
+    const Eigen::Vector2d* row1 = row0 + width + 1;
+    return (1 - b) * ((1 - a) * row0[0] + a * row0[1]) +
+           b * ((1 - a) * row1[0] + a * row1[1]);
+  }
+};
+
+namespace {
+
+// Composites one layer over `image` (CV_32FC3) inside `box`: `shader(p, &c)`
+// says whether the plane point p = (y, z) [mm] is inside and its colour.
+// Pixels whose corners and centre agree are uniform; the others are
+// supersampled `ss` x `ss`.
+template <typename Shader>
+void Composite(const PixelGrid& pixels,
+               const Eigen::Matrix3d& plane_from_normalized, cv::Rect box,
+               int ss, const Shader& shader, cv::Mat* image) {
+  box &= cv::Rect(0, 0, image->cols, image->rows);
+  if (box.empty()) return;
+  const auto sample = [&](double u, double v, cv::Vec3f* colour) {
+    const Eigen::Vector2d n = pixels.At(u, v);
+    const Eigen::Vector3d q = plane_from_normalized * n.homogeneous();
+    return shader(Eigen::Vector2d(q.x() / q.z(), q.y() / q.z()), colour);
+  };
+  cv::parallel_for_(
+      cv::Range(box.y, box.y + box.height), [&](const cv::Range& rows) {
+        for (int v = rows.start; v < rows.end; ++v) {
+          auto* row = image->ptr<cv::Vec3f>(v);
+          for (int u = box.x; u < box.x + box.width; ++u) {
+            cv::Vec3f c[5];
+            const bool in[5] = {sample(u - 0.5, v - 0.5, &c[0]),
+                                sample(u + 0.5, v - 0.5, &c[1]),
+                                sample(u - 0.5, v + 0.5, &c[2]),
+                                sample(u + 0.5, v + 0.5, &c[3]),
+                                sample(u, v, &c[4])};
+            const int count = in[0] + in[1] + in[2] + in[3] + in[4];
+            if (count == 0) continue;
+            if (count == 5 && c[0] == c[1] && c[0] == c[2] && c[0] == c[3] &&
+                c[0] == c[4]) {
+              row[u] = c[0];
+              continue;
+            }
+            cv::Vec3f sum(0, 0, 0), colour;
+            int covered = 0;
+            for (int j = 0; j < ss; ++j) {
+              for (int i = 0; i < ss; ++i) {
+                if (sample(u - 0.5 + (i + 0.5) / ss, v - 0.5 + (j + 0.5) / ss,
+                           &colour)) {
+                  sum += colour;
+                  ++covered;
+                }
+              }
+            }
+            if (covered == 0) continue;
+            const float coverage = static_cast<float>(covered) / (ss * ss);
+            row[u] = row[u] * (1.0f - coverage) + sum * (1.0f / (ss * ss));
+          }
+        }
+      });
+}
+
+}  // namespace
+
+SceneRenderer::SceneRenderer(const TestPlan& plan, const RenderOptions& options)
+    : plan_(plan),
+      options_(options),
+      camera_(CameraIntrinsics{}, Eigen::Matrix3d::Identity(),
+              Eigen::Vector3d::Zero()),
+      dot_height_(plan.calibration.plane_offset_mm) {
+  const Mechanism& m = plan_.mechanism;
+  for (const Head& head : m.heads) centre_mm_ += head.rest_mm / m.NumHeads();
+  camera_ = Camera::LookingDown(
+      options_.intrinsics,
+      Eigen::Vector3d(centre_mm_.x(), centre_mm_.y(), dot_height_),
+      options_.distance_mm, DegToRad(options_.tilt_x_deg),
+      DegToRad(options_.tilt_y_deg));
+
+  double reach = 0.0;
+  for (const FixedAnchor& a : m.fixed_anchors) {
+    reach = std::max(reach, (a.position_mm - centre_mm_).norm());
+  }
+  ring_inner_mm_ = reach + 6.0;
+  ring_outer_mm_ = ring_inner_mm_ + 6.0;
+  if (plan_.calibration.tag) {
+    const TagSpec& tag = *plan_.calibration.tag;
+    const double half_diagonal = tag.size_mm * 10.0 / 8.0 / std::sqrt(2.0);
+    tag_center_mm_ = tag.center_mm.value_or(
+        centre_mm_ + (ring_outer_mm_ + 6.0 + half_diagonal) *
+                         Eigen::Vector2d(1.0, -1.0).normalized());
+  }
+
+  auto pixels = std::make_shared<PixelGrid>();
+  const CameraIntrinsics& k = options_.intrinsics;
+  pixels->fx = k.fx_px, pixels->fy = k.fy_px, pixels->cx = k.cx_px,
+  pixels->cy = k.cy_px, pixels->width = k.width_px;
+  if (camera_.HasDistortion()) {
+    std::vector<cv::Point2d> corners;
+    corners.reserve(static_cast<size_t>(k.width_px + 1) * (k.height_px + 1));
+    for (int j = 0; j <= k.height_px; ++j) {
+      for (int i = 0; i <= k.width_px; ++i)
+        corners.emplace_back(i - 0.5, j - 0.5);
+    }
+    pixels->corners = camera_.UndistortPixels(corners);
+  }
+  pixels_ = pixels;
+  DrawStatic();
+}
+
+void SceneRenderer::DrawStatic() {
+  const CameraIntrinsics& k = options_.intrinsics;
+  // Table: a grey-brown surface with coarse and fine grain (seeded).
+  cv::RNG rng(options_.seed ^ 0x5EEDF00DULL);
+  cv::Mat coarse(k.height_px, k.width_px, CV_32FC1),
+      fine(coarse.size(), CV_32FC1);
+  rng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
+  rng.fill(fine, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::GaussianBlur(coarse, coarse, cv::Size(), 9.0);
+  cv::GaussianBlur(fine, fine, cv::Size(), 1.2);
+  cv::Mat grain = coarse * (12.0 / 0.045) + fine * 3.0;
+  std::vector<cv::Mat> channels(3);
+  for (int c = 0; c < 3; ++c) channels[c] = grain + kTableColor[c];
+  cv::merge(channels, background_);
+
+  const PixelGrid& px = *pixels_;
+  const Eigen::Matrix3d on_ring = camera_.NormalizedFromPlane(0.0).inverse();
+  const auto box = [&](const Eigen::Vector2d& centre, double radius,
+                       double height) {
+    std::vector<Eigen::Vector2d> circle;
+    for (int i = 0; i < 16; ++i) {
+      const double a = 2 * std::numbers::pi * i / 16;
+      circle.push_back(centre +
+                       radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+    return ImageBox(camera_, circle, height);
+  };
+
+  // Ring with a pad from each fixed anchor out to it (the mating surfaces).
+  const Mechanism& m = plan_.mechanism;
+  if (options_.ring)
+    Composite(
+        px, on_ring, box(centre_mm_, ring_outer_mm_ + 1, 0.0),
+        options_.supersampling,
+        [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+          const double r = (p - centre_mm_).norm();
+          bool in = r >= ring_inner_mm_ && r <= ring_outer_mm_;
+          for (const FixedAnchor& a : m.fixed_anchors) {
+            const Eigen::Vector2d out =
+                centre_mm_ +
+                (a.position_mm - centre_mm_).normalized() * ring_inner_mm_;
+            in = in || DistanceToSegment(p, a.position_mm, out) <= 12.5;
+          }
+          *colour = kRingColor;
+          return in;
+        },
+        &background_);
+
+  background_without_tag_ = background_.clone();
+  if (plan_.calibration.tag) {
+    // The tag from libapriltag's own bitmap: total_width cells including the
+    // white quiet zone; size_mm spans the black border (width_at_border).
+    apriltag_family_t* family = tag36h11_create();
+    image_u8_t* bitmap = apriltag_to_image(family, plan_.calibration.tag->id);
+    const double cell =
+        plan_.calibration.tag->size_mm / family->width_at_border;
+    const int cells = family->total_width;
+    const double half = cell * cells / 2.0;
+    Composite(
+        px, on_ring, box(tag_center_mm_, half * std::sqrt(2.0), 0.0),
+        options_.supersampling,
+        [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+          const Eigen::Vector2d d = p - tag_center_mm_;
+          const double col = std::floor((d.x() + half) / cell);
+          const double row = std::floor((half - d.y()) / cell);
+          if (col < 0 || row < 0 || col >= cells || row >= cells) return false;
+          const uint8_t v = bitmap->buf[static_cast<int>(row) * bitmap->stride +
+                                        static_cast<int>(col)];
+          *colour = v > 127 ? kPaperColor : kInkColor;
+          return true;
+        },
+        &background_);
+    // Debian's libapriltag does not export image_u8_destroy; the image and its
+    // buffer are both calloc'd by image_u8_create_stride.
+    free(bitmap->buf);
+    free(bitmap);
+    tag36h11_destroy(family);
+  }
+
+  // Lighting: a linear gradient times cos^4-like vignetting.
+  gain_.create(k.height_px, k.width_px, CV_32FC1);
+  const double half_diagonal = std::hypot(k.width_px, k.height_px) / 2.0;
+  for (int v = 0; v < k.height_px; ++v) {
+    auto* row = gain_.ptr<float>(v);
+    for (int u = 0; u < k.width_px; ++u) {
+      const double x = (u - k.cx_px) / half_diagonal;
+      const double y = (v - k.cy_px) / half_diagonal;
+      const double gradient =
+          1.0 + options_.lighting_gradient * 0.5 * (x - 0.5 * y);
+      row[u] = static_cast<float>(
+          gradient * (1.0 - options_.vignetting * (x * x + y * y)));
+    }
+  }
+}
+
+Eigen::Vector2d SceneRenderer::Project(const Eigen::Vector3d& point_in_world,
+                                       const CameraMotion& motion) const {
+  const Eigen::Vector3d p =
+      camera_.camera_from_world() * point_in_world + camera_.translation();
+  const Eigen::Vector3d n = motion.CurrentFromReference() * (p / p.z());
+  return camera_.Distort(n.head<2>() / n.z());
+}
+
+std::vector<DotTruth> SceneRenderer::Dots(
+    const Eigen::VectorXd& displacements_mm, const CameraMotion& motion) const {
+  std::vector<DotTruth> dots;
+  for (const MarkerSpec& marker : plan_.markers) {
+    const Eigen::Vector2d head = plan_.mechanism.heads[marker.head].rest_mm +
+                                 displacements_mm.segment<2>(2 * marker.head);
+    for (const Eigen::Vector2d& offset : marker.layout_mm) {
+      const Eigen::Vector2d p = head + offset;
+      dots.push_back(
+          {marker.head, p,
+           Project(Eigen::Vector3d(p.x(), p.y(), dot_height_), motion)});
+    }
+  }
+  return dots;
+}
+
+std::vector<Eigen::Vector2d> SceneRenderer::HeadPixels(
+    const Eigen::VectorXd& displacements_mm, const CameraMotion& motion) const {
+  std::vector<Eigen::Vector2d> pixels;
+  for (const MarkerSpec& marker : plan_.markers) {
+    Eigen::Vector2d centre = plan_.mechanism.heads[marker.head].rest_mm +
+                             displacements_mm.segment<2>(2 * marker.head);
+    for (const Eigen::Vector2d& offset : marker.layout_mm) {
+      centre += offset / static_cast<double>(marker.layout_mm.size());
+    }
+    pixels.push_back(
+        Project(Eigen::Vector3d(centre.x(), centre.y(), dot_height_), motion));
+  }
+  return pixels;
+}
+
+std::vector<Eigen::Vector2d> SceneRenderer::TagCorners(
+    const CameraMotion& motion) const {
+  if (!plan_.calibration.tag) return {};
+  const double h = plan_.calibration.tag->size_mm / 2.0;
+  std::vector<Eigen::Vector2d> corners;
+  for (const Eigen::Vector2d& c :
+       {Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, -h), Eigen::Vector2d(h, h),
+        Eigen::Vector2d(-h, h)}) {
+    const Eigen::Vector2d p = tag_center_mm_ + c;
+    corners.push_back(Project(Eigen::Vector3d(p.x(), p.y(), 0.0), motion));
+  }
+  return corners;
+}
+
+void SceneRenderer::DrawMoving(const Eigen::VectorXd& displacements_mm,
+                               cv::Mat* image) const {
+  const Mechanism& m = plan_.mechanism;
+  const PixelGrid& px = *pixels_;
+  const int ss = options_.supersampling;
+  const auto head_at = [&](int h) {
+    return Eigen::Vector2d(m.heads[h].rest_mm +
+                           displacements_mm.segment<2>(2 * h));
+  };
+  const auto box = [&](const std::vector<Eigen::Vector2d>& points,
+                       double height) {
+    return ImageBox(camera_, points, height);
+  };
+
+  // Bellows, cosmetic: a 22 mm wide band from anchor to head, mid-height.
+  const double bellows_height = dot_height_ / 2.0;
+  const Eigen::Matrix3d on_bellows =
+      camera_.NormalizedFromPlane(bellows_height).inverse();
+  for (const Actuator& a : m.actuators) {
+    const Eigen::Vector2d from = a.anchor.kind == AnchorRef::Kind::kHead
+                                     ? head_at(a.anchor.index)
+                                     : m.AnchorRestPosition(a);
+    const Eigen::Vector2d to = head_at(a.head);
+    const Eigen::Vector2d side =
+        Eigen::Vector2d(-(to - from).y(), (to - from).x()).normalized() * 11.0;
+    Composite(
+        px, on_bellows,
+        box({from + side, from - side, to + side, to - side}, bellows_height),
+        ss,
+        [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+          *colour = kBellowsColor;
+          return DistanceToSegment(p, from, to) <= 11.0;
+        },
+        image);
+  }
+
+  // Heads: triangles with an edge facing each of three attachments (thesis
+  // figs. 4.2, 4.10), else discs; dots and glints on their top face.
+  const Eigen::Matrix3d on_top =
+      camera_.NormalizedFromPlane(dot_height_).inverse();
+  const double side = plan_.scene.head_side_mm;
+  for (const MarkerSpec& marker : plan_.markers) {
+    const Eigen::Vector2d centre = head_at(marker.head);
+    const std::vector<Eigen::Vector2d> attachments =
+        AttachmentDirections(m, marker.head);
+    std::vector<Eigen::Vector2d> triangle;
+    if (attachments.size() == 3) {
+      for (const Eigen::Vector2d& d : attachments) {
+        triangle.push_back(centre - d * side / std::sqrt(3.0));
+      }
+      const Eigen::Vector2d e1 = triangle[1] - triangle[0],
+                            e2 = triangle[2] - triangle[0];
+      if (e1.x() * e2.y() - e1.y() * e2.x() < 0)
+        std::swap(triangle[1], triangle[2]);
+    }
+    const double radius = side / std::sqrt(3.0);
+    Composite(
+        px, on_top,
+        box({centre + Eigen::Vector2d(radius, radius),
+             centre - Eigen::Vector2d(radius, radius)},
+            dot_height_),
+        ss,
+        [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+          *colour = kHeadColor;
+          return triangle.empty() ? (p - centre).norm() <= side / 2.0
+                                  : InPolygon(triangle, p);
+        },
+        image);
+    const cv::Vec3f dot_color = MarkerColorBgr(marker.color);
+    const double r = marker.dot_diameter_mm / 2.0;
+    for (const Eigen::Vector2d& offset : marker.layout_mm) {
+      const Eigen::Vector2d c = centre + offset;
+      Composite(
+          px, on_top,
+          box({c + Eigen::Vector2d(r, r), c - Eigen::Vector2d(r, r)},
+              dot_height_),
+          ss,
+          [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+            *colour = dot_color;
+            return (p - c).squaredNorm() <= r * r;
+          },
+          image);
+    }
+    if (options_.glint) {
+      const Eigen::Vector2d g = centre + Eigen::Vector2d(0.8, -0.6);
+      Composite(
+          px, on_top,
+          box({g + Eigen::Vector2d(2, 2), g - Eigen::Vector2d(2, 2)},
+              dot_height_),
+          ss,
+          [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+            *colour = kGlintColor;
+            return (p - g).norm() <= 1.3;
+          },
+          image);
+    }
+  }
+
+  if (options_.red_tube) {
+    // A 5 mm red air tube across the lower left of the frame, above the scene.
+    const double height = dot_height_ + 10.0;
+    const Eigen::Matrix3d on_tube =
+        camera_.NormalizedFromPlane(height).inverse();
+    const std::vector<Eigen::Vector2d> path = {
+        centre_mm_ + Eigen::Vector2d(-200, -15),
+        centre_mm_ + Eigen::Vector2d(-120, -45),
+        centre_mm_ + Eigen::Vector2d(-85, -75),
+        centre_mm_ + Eigen::Vector2d(-70, -140)};
+    for (size_t i = 0; i + 1 < path.size(); ++i) {
+      const Eigen::Vector2d a = path[i], b = path[i + 1];
+      Composite(
+          px, on_tube,
+          box({a + Eigen::Vector2d(3, 3), a - Eigen::Vector2d(3, 3),
+               b + Eigen::Vector2d(3, 3), b - Eigen::Vector2d(3, 3)},
+              height),
+          ss,
+          [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+            *colour = MarkerColorBgr("red");
+            return DistanceToSegment(p, a, b) <= 2.5;
+          },
+          image);
+    }
+  }
+}
+
+cv::Mat SceneRenderer::RenderLinear(
+    const std::vector<Eigen::VectorXd>& displacement_samples,
+    bool tag_visible) const {
+  const cv::Mat& background =
+      tag_visible ? background_ : background_without_tag_;
+  if (displacement_samples.size() == 1) {
+    cv::Mat image = background.clone();
+    DrawMoving(displacement_samples[0], &image);
+    return image;
+  }
+  cv::Mat sum = cv::Mat::zeros(background_.size(), CV_32FC3), image;
+  for (const Eigen::VectorXd& sample : displacement_samples) {
+    background.copyTo(image);
+    DrawMoving(sample, &image);
+    sum += image;
+  }
+  return sum / static_cast<double>(displacement_samples.size());
+}
+
+cv::Mat SceneRenderer::Moved(const cv::Mat& linear,
+                             const CameraMotion& motion) const {
+  // Each pixel of the moved camera looks along a ray that the still camera
+  // saw at (distorted) pixel Distort(H^-1 n): sample the still frame there.
+  // Bilinear in float, not cv::remap, whose coordinates are fixed-point
+  // (1/32 px) and would quantise sub-pixel motion.
+  const Eigen::Matrix3d reference_from_current =
+      motion.CurrentFromReference().inverse();
+  const PixelGrid& grid = *pixels_;
+  cv::Mat moved(linear.size(), CV_32FC3);
+  cv::parallel_for_(cv::Range(0, linear.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      auto* out = moved.ptr<cv::Vec3f>(v);
+      for (int u = 0; u < linear.cols; ++u) {
+        const Eigen::Vector3d n =
+            reference_from_current * grid.At(u, v).homogeneous();
+        const Eigen::Vector2d src = camera_.Distort(n.head<2>() / n.z());
+        const double x = std::clamp(src.x(), 0.0, linear.cols - 1.0);
+        const double y = std::clamp(src.y(), 0.0, linear.rows - 1.0);
+        const int x0 = std::min(static_cast<int>(x), linear.cols - 2);
+        const int y0 = std::min(static_cast<int>(y), linear.rows - 2);
+        const float a = static_cast<float>(x - x0),
+                    b = static_cast<float>(y - y0);
+        const auto* r0 = linear.ptr<cv::Vec3f>(y0) + x0;
+        const auto* r1 = linear.ptr<cv::Vec3f>(y0 + 1) + x0;
+        out[u] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
+                 b * ((1 - a) * r1[0] + a * r1[1]);
+      }
+    }
+  });
+  return moved;
+}
+
+cv::Mat SceneRenderer::Render(
+    const std::vector<Eigen::VectorXd>& displacement_samples,
+    int64_t frame_index, const FrameConditions& conditions) const {
+  cv::Mat linear = RenderLinear(displacement_samples, conditions.tag_visible);
+  if (conditions.motion.rotation_rad != Eigen::Vector3d::Zero() ||
+      conditions.motion.scale != 1.0) {
+    linear = Moved(linear, conditions.motion);
+  }
+  const cv::Vec3f exposure =
+      conditions.channel_gain * static_cast<float>(conditions.brightness);
+  cv::Mat out(linear.size(), options_.sixteen_bit ? CV_16UC3 : CV_8UC3);
+  // Fixed stripes, each with its own seeded generator: the same frame for any
+  // number of threads.
+  constexpr int kStripes = 32;
+  cv::parallel_for_(cv::Range(0, kStripes), [&](const cv::Range& range) {
+    for (int s = range.start; s < range.end; ++s) {
+      const int begin = linear.rows * s / kStripes;
+      const int end = linear.rows * (s + 1) / kStripes;
+      cv::RNG rng(options_.seed * 0x9E3779B97F4A7C15ULL +
+                  static_cast<uint64_t>(frame_index) * kStripes + s + 1);
+      cv::Mat noise(end - begin, linear.cols, CV_32FC3);
+      rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
+      for (int v = begin; v < end; ++v) {
+        const auto* in = linear.ptr<cv::Vec3f>(v);
+        const auto* g = gain_.ptr<float>(v);
+        const auto* n = noise.ptr<cv::Vec3f>(v - begin);
+        auto* o8 = out.ptr<cv::Vec3b>(v);
+        auto* o16 = out.ptr<cv::Vec3w>(v);
+        for (int u = 0; u < linear.cols; ++u) {
+          for (int c = 0; c < 3; ++c) {
+            const float signal = in[u][c] * g[u] * exposure[c];
+            const float sigma =
+                std::sqrt(static_cast<float>(options_.noise_sigma_dn *
+                                             options_.noise_sigma_dn) +
+                          static_cast<float>(options_.shot_noise_dn) *
+                              std::max(signal, 0.0f));
+            const float level = signal + sigma * n[u][c];
+            if (options_.sixteen_bit) {
+              o16[u][c] = cv::saturate_cast<uint16_t>(level * 257.0f);
+            } else {
+              o8[u][c] = cv::saturate_cast<uint8_t>(level);
+            }
+          }
+        }
+      }
+    }
+  });
+  return out;
+}
+
+}  // namespace softbench

@@ -1,0 +1,126 @@
+#ifndef SOFTBENCH_PIPELINES_SYNTHETIC_SCENE_RENDERER_H_
+#define SOFTBENCH_PIPELINES_SYNTHETIC_SCENE_RENDERER_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipelines/formats/test_plan.h"
+#include "pipelines/synthetic/bench_conditions.h"
+#include "vision/camera.h"
+#include "vision/camera_motion.h"
+
+namespace softbench {
+
+struct RenderOptions {
+  // Default: the thesis's iPhone 12 Pro at 1080p, 52 mm equivalent (fig. 4.7).
+  CameraIntrinsics intrinsics =
+      CameraIntrinsics::FromEquivalentFocalLength(52.0, 1920, 1080);
+  double distance_mm = 475.0;  // camera to the head tops (fig. 4.7)
+  double tilt_x_deg = 0.0;     // about the image x axis
+  double tilt_y_deg = 0.0;     // about the image y axis
+  int supersampling = 16;      // subsamples per pixel side on edges
+  // Temporal noise after a phone's denoising: Gaussian read noise [8-bit
+  // levels] and signal-dependent variance per level.
+  double noise_sigma_dn = 0.6;
+  double shot_noise_dn = 0.01;
+  double lighting_gradient = 0.12;  // relative brightness change across
+  double vignetting = 0.2;          // relative darkening at the corners
+  bool red_tube = false;            // a red air tube crossing the frame
+  bool glint = false;               // a specular glint on each head
+  // The ring and its pads: static structure beside the tag that the
+  // registration can use (false: a plain table around the mechanism).
+  bool ring = true;
+  double exposure_s = 1.0 / 60.0;
+  bool motion_blur = true;
+  uint64_t seed = 1;
+  // Frames as CV_16UC3 (65535 = white) instead of CV_8UC3, for 10 and
+  // 12-bit video: the sensor's levels are kept between 8-bit steps.
+  bool sixteen_bit = false;
+
+  std::optional<std::string> Check() const;
+};
+
+// Pixel to normalised image coordinates, with distortion (scene_renderer.cc).
+struct PixelGrid;
+
+// The truth of one dot in a frame.
+struct DotTruth {
+  int head = 0;
+  Eigen::Vector2d plane_mm;  // world (y, z) of its centre on the dot plane
+  Eigen::Vector2d pixel;     // projected centre (distortion applied)
+};
+
+// Draws the bench scene of a test plan (thesis 4.1.3, fig. 4.7): textured
+// table, ring, actuators, heads with coloured dots and the AprilTag, seen by
+// the camera of RenderOptions. Dot, head and tag edges are anti-aliased from
+// the true projected geometry: each pixel's coverage is the fraction of its
+// area whose back-projection onto the shape's plane falls inside the shape
+// (supersampled on edges), so a perfect measurement recovers the geometry.
+class SceneRenderer {
+ public:
+  SceneRenderer(const TestPlan& plan, const RenderOptions& options);
+
+  const Camera& camera() const { return camera_; }
+
+  // The linear frame (float BGR, 0..255, before lighting and noise) with the
+  // heads at each of `displacement_samples` (y1, z1, ...), averaged: several
+  // samples across the exposure give motion blur.
+  cv::Mat RenderLinear(const std::vector<Eigen::VectorXd>& displacement_samples,
+                       bool tag_visible = true) const;
+  // The 8-bit frame as the camera records it: RenderLinear seen by the
+  // camera after `conditions.motion` (the linear frame resampled exactly
+  // along the moved camera's rays, bilinearly in full precision), then
+  // exposure, white balance, lighting, vignetting and noise (seeded by the
+  // options' seed and `frame_index`). CV_8UC3, or CV_16UC3 with
+  // RenderOptions::sixteen_bit.
+  cv::Mat Render(const std::vector<Eigen::VectorXd>& displacement_samples,
+                 int64_t frame_index,
+                 const FrameConditions& conditions = {}) const;
+
+  // The dots at given displacements, seen by the camera after `motion`.
+  std::vector<DotTruth> Dots(const Eigen::VectorXd& displacements_mm,
+                             const CameraMotion& motion = {}) const;
+  // The centre of each head's dots, projected (distortion applied).
+  std::vector<Eigen::Vector2d> HeadPixels(
+      const Eigen::VectorXd& displacements_mm,
+      const CameraMotion& motion = {}) const;
+  // The tag's four outer black-border corners in pixels, in AprilTag's order
+  // (counter-clockwise in the printed tag, starting bottom-left).
+  std::vector<Eigen::Vector2d> TagCorners(
+      const CameraMotion& motion = {}) const;
+  double dot_plane_height_mm() const { return dot_height_; }
+
+ private:
+  void DrawStatic();
+  // A world point's pixel in the camera after `motion`.
+  Eigen::Vector2d Project(const Eigen::Vector3d& point_in_world,
+                          const CameraMotion& motion) const;
+  // `linear` as the camera after `motion` sees it.
+  cv::Mat Moved(const cv::Mat& linear, const CameraMotion& motion) const;
+  void DrawMoving(const Eigen::VectorXd& displacements_mm,
+                  cv::Mat* image) const;
+
+  TestPlan plan_;
+  RenderOptions options_;
+  Camera camera_;
+  double dot_height_;
+  Eigen::Vector2d tag_center_mm_ = Eigen::Vector2d::Zero();
+  double ring_inner_mm_ = 0.0, ring_outer_mm_ = 0.0;
+  Eigen::Vector2d centre_mm_ = Eigen::Vector2d::Zero();
+  std::shared_ptr<const PixelGrid> pixels_;
+  cv::Mat background_;              // CV_32FC3, static layers
+  cv::Mat background_without_tag_;  // the same with the tag taken away
+  cv::Mat gain_;                    // CV_32FC1, lighting x vignetting
+};
+
+// BGR of a marker colour name (test_plan.h's list), as printed dots.
+cv::Vec3f MarkerColorBgr(const std::string& name);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_SYNTHETIC_SCENE_RENDERER_H_

@@ -1,0 +1,103 @@
+#include "pipelines/validation/validate_video.h"
+
+#include <fmt/format.h>
+
+#include "pipelines/measurement/snapshots.h"
+#include "util/check.h"
+#include "util/input_error.h"
+#include "vision/video_reader.h"
+
+namespace softbench {
+namespace {
+
+// The measurement's options: with the times known, the windows' crops are
+// kept on the way and, windows only, their frames are all that is read.
+VideoMeasurementOptions MeasurementOptions(
+    const TestPlan& plan, const VideoReader& reader, bool times_known,
+    const VideoValidationOptions& options) {
+  VideoMeasurementOptions measure;
+  measure.progress = options.progress;
+  measure.register_frames = options.register_frames;
+  measure.rest_s = times_known ? *plan.tests.front().actuate_s : options.rest_s;
+  if (!times_known) return measure;
+  const auto windows = PlanWindows(plan, reader.info().LastFrameS());
+  measure.snapshot_times_s = WindowMiddles(windows);
+  if (options.windows_only) {
+    for (const auto& test : windows) {
+      for (const WindowSummary& w : test) {
+        measure.spans.push_back({w.start_s, w.end_s});
+      }
+    }
+  }
+  return measure;
+}
+
+// Gives the plan's tests their times from the motion or from the log's
+// holds aligned to it; returns where they came from.
+std::string TimesFromVideo(const VideoMeasurement& m,
+                           const std::optional<PressureLogTimes>& log,
+                           const TestPointDetectionOptions& options,
+                           TestPlan* plan) {
+  const TestPointDetection detection =
+      DetectTestPoints(m, static_cast<int>(plan->tests.size()), options);
+  if (!detection.found)
+    throw InputError(m.video_path + ": " + detection.why_not);
+  if (!log) {
+    for (size_t i = 0; i < plan->tests.size(); ++i) {
+      plan->tests[i].actuate_s = detection.points[i].actuate_s;
+      plan->tests[i].release_s = detection.points[i].release_s;
+    }
+    return fmt::format("the motion (heads beyond {:.3f} mm)",
+                       detection.threshold_mm);
+  }
+  const PressureLogAlignment alignment =
+      AlignPressureLog(log->holds, detection);
+  for (size_t i = 0; i < plan->tests.size(); ++i) {
+    plan->tests[i].actuate_s = log->holds[i].start_s + alignment.offset_s;
+    plan->tests[i].release_s = log->holds[i].end_s + alignment.offset_s;
+  }
+  return fmt::format(
+      "the pressure log {}, its clock {:+.3f} s from the video's (steps in "
+      "the motion within {:.3f} s of it)",
+      log->path, alignment.offset_s, alignment.spread_s);
+}
+
+}  // namespace
+
+std::optional<std::string> VideoValidationOptions::Check() const {
+  if (!(rest_s > 0.0)) return "rest_s: must be > 0 s";
+  if (auto problem = scoring.Check()) return "scoring: " + *problem;
+  if (auto problem = detection.Check()) return "detection: " + *problem;
+  return std::nullopt;
+}
+
+VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
+                              const std::optional<PressureLogTimes>& log,
+                              const VideoValidationOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  const bool times_known = plan.HasTimes() && !log;
+  if (options.windows_only && !times_known) {
+    throw InputError(fmt::format(
+        "{}: --windows-only needs the test times before reading the video; "
+        "give every test actuate_s and release_s in the plan (times from the "
+        "motion or a pressure log need every frame)",
+        plan.path));
+  }
+  VideoReader reader(video_path,
+                     MeasurementReaderOptions(!options.windows_only));
+  VideoMeasurement m = MeasureVideo(
+      plan, &reader, MeasurementOptions(plan, reader, times_known, options));
+  const std::string times_source =
+      times_known ? "the plan"
+                  : TimesFromVideo(m, log, options.detection, &plan);
+  ValidationResult result = ScoreTests(plan, m, options.scoring);
+  result.times_source = times_source;
+  if (!times_known) {
+    // The plan has its times now: the windows' crops, from the same reader.
+    CaptureSnapshots(plan, WindowMiddles(PlanWindows(plan, m.last_frame_s)),
+                     &reader, &m);
+  }
+  return {std::move(plan), std::move(m), std::move(result)};
+}
+
+}  // namespace softbench

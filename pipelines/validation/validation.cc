@@ -1,0 +1,426 @@
+#include "pipelines/validation/validation.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "model/equilibrium.h"
+#include "util/check.h"
+#include "util/statistics.h"
+
+namespace softbench {
+namespace {
+
+// Equilibrium displacements of every head from rest for given pressures
+// [MPa], solved from the rest state; NaN when the solver fails.
+Eigen::VectorXd Predict(const Mechanism& mechanism, const ForceModel& model,
+                        const Eigen::VectorXd& pressures_mpa) {
+  const EquilibriumProblem problem(mechanism, model);
+  EquilibriumSolver solver(problem);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(problem.NumUnknowns());
+  if (!solver.Solve(pressures_mpa, &x).converged()) {
+    x.setConstant(NAN);
+  }
+  return x;
+}
+
+ErrorStatistics Statistics(const std::vector<double>& errors) {
+  ErrorStatistics s;
+  s.tests = static_cast<int>(errors.size());
+  if (errors.empty()) return s;
+  double sum = 0.0, squares = 0.0, largest = 0.0;
+  for (double e : errors) {
+    sum += e;
+    squares += e * e;
+    largest = std::max(largest, e);
+  }
+  s.mean_mm = sum / errors.size();
+  s.rms_mm = std::sqrt(squares / errors.size());
+  s.max_mm = largest;
+  return s;
+}
+
+// What the tests flagged for hysteresis share, in words.
+std::string SharedCause(const TestPlan& plan,
+                        const std::vector<TestScore>& tests,
+                        const std::vector<std::string>& flagged) {
+  if (flagged.empty()) return "no test point exceeds the tolerance";
+  std::vector<double> top;
+  for (const TestScore& t : tests) top.push_back(t.pressures.maxCoeff());
+  const double high = Quantile(top, 2.0 / 3.0);
+  bool all_high = true, all_late = true;
+  int common_actuator = -2;
+  for (size_t i = 0; i < tests.size(); ++i) {
+    if (std::find(flagged.begin(), flagged.end(), tests[i].id) ==
+        flagged.end()) {
+      continue;
+    }
+    all_high &= tests[i].pressures.maxCoeff() >= high;
+    all_late &= 2 * i >= tests.size();
+    int strongest = 0;
+    tests[i].pressures.maxCoeff(&strongest);
+    common_actuator =
+        common_actuator == -2 || common_actuator == strongest ? strongest : -1;
+  }
+  std::vector<std::string> causes;
+  if (flagged.size() >= 2 && all_high) {
+    causes.push_back(fmt::format("all at high pressure (max >= {:g} {})", high,
+                                 plan.pressure_unit));
+  }
+  if (flagged.size() >= 2 && all_late) {
+    causes.push_back("all in the second half of the run (drift or creep?)");
+  }
+  if (flagged.size() >= 2 && common_actuator >= 0) {
+    causes.push_back(fmt::format("all with actuator {} at the highest pressure",
+                                 common_actuator + 1));
+  }
+  if (causes.empty()) {
+    return flagged.size() == 1
+               ? "one test point: " + flagged.front()
+               : "no common cause in pressure level, actuator or time";
+  }
+  std::string text;
+  for (const std::string& cause : causes) {
+    text += (text.empty() ? "" : "; ") + cause;
+  }
+  return text;
+}
+
+// Names each window (once, however many tests share it) in which the
+// camera moved, and says how far.
+void WarnCameraMotion(const std::vector<TestScore>& tests,
+                      const VideoMeasurement& measurement,
+                      ValidationResult* result) {
+  struct Moved {
+    const WindowSummary* window;
+    std::vector<std::string> names;
+  };
+  std::vector<Moved> moved;
+  for (const TestScore& test : tests) {
+    for (int k = 0; k < 3; ++k) {
+      const WindowSummary& w = test.windows[k];
+      if (!w.camera_moved) continue;
+      const std::string name = test.id + " " + kWindowNames[k];
+      auto same = std::find_if(moved.begin(), moved.end(), [&](const Moved& m) {
+        return m.window->start_s == w.start_s && m.window->end_s == w.end_s;
+      });
+      if (same == moved.end()) {
+        moved.push_back({&w, {name}});
+      } else {
+        same->names.push_back(name);
+      }
+    }
+  }
+  for (const Moved& m : moved) {
+    const std::string names = fmt::format("{}", fmt::join(m.names, " = "));
+    result->camera_moved_windows.push_back(names);
+    result->warnings.push_back(fmt::format(
+        "the camera moved {:.2f} px ({:.3f} mm at the dot plane) during "
+        "window {} ({:.2f}-{:.2f} s); every frame is registered to the "
+        "bench, so the positions are corrected, but steady the tripod",
+        m.window->camera_motion_px,
+        m.window->camera_motion_px * measurement.mm_per_px, names,
+        m.window->start_s, m.window->end_s));
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> ValidationOptions::Check() const {
+  if (!(recommended_hold_s >= 0.0)) return "recommended_hold_s must be >= 0";
+  if (!(min_window_coverage > 0.0 && min_window_coverage <= 1.0)) {
+    return "min_window_coverage must be in (0, 1]";
+  }
+  if (!(camera_motion_warning_px > 0.0)) {
+    return "camera_motion_warning_px must be > 0";
+  }
+  return std::nullopt;
+}
+
+std::vector<std::array<WindowSummary, 3>> PlanWindows(const TestPlan& plan,
+                                                      double video_end_s) {
+  const double w = plan.window_s;
+  std::vector<std::array<WindowSummary, 3>> windows(plan.tests.size());
+  for (size_t i = 0; i < plan.tests.size(); ++i) {
+    const PlanTest& test = plan.tests[i];
+    const double next =
+        i + 1 < plan.tests.size() ? *plan.tests[i + 1].actuate_s : video_end_s;
+    const std::array<double, 3> ends = {*test.actuate_s, *test.release_s, next};
+    for (int k = 0; k < 3; ++k) {
+      windows[i][k].start_s = ends[k] - w;
+      windows[i][k].end_s = ends[k];
+    }
+  }
+  return windows;
+}
+
+std::vector<double> WindowMiddles(
+    const std::vector<std::array<WindowSummary, 3>>& windows) {
+  std::vector<double> middles;
+  for (const auto& test : windows) {
+    for (const WindowSummary& w : test) middles.push_back(w.middle_s());
+  }
+  std::sort(middles.begin(), middles.end());
+  middles.erase(std::unique(middles.begin(), middles.end()), middles.end());
+  return middles;
+}
+
+void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
+                     WindowSummary* window) {
+  window->frames = 0;
+  window->head_frames.assign(num_heads, 0);
+  window->median_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
+  window->spread_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
+  std::vector<std::array<std::vector<double>, 2>> values(num_heads);
+  std::array<std::vector<double>, 2> camera;
+  window->unregistered_frames = 0;
+  // Frames are in time order: only the window's own are visited.
+  const auto by_time = [](const FrameSample& frame, double time_s) {
+    return frame.time_s < time_s;
+  };
+  const auto begin =
+      std::lower_bound(measurement.frames.begin(), measurement.frames.end(),
+                       window->start_s, by_time);
+  const auto end =
+      std::lower_bound(begin, measurement.frames.end(), window->end_s, by_time);
+  for (auto it = begin; it != end; ++it) {
+    const FrameSample& frame = *it;
+    ++window->frames;
+    if (!frame.registered) {
+      ++window->unregistered_frames;
+    } else {
+      camera[0].push_back(frame.camera_shift_px.x());
+      camera[1].push_back(frame.camera_shift_px.y());
+    }
+    for (int h = 0; h < num_heads; ++h) {
+      const HeadSample& head = frame.heads[h];
+      if (!head.observation.complete) continue;
+      ++window->head_frames[h];
+      values[h][0].push_back(head.displacement_mm.x());
+      values[h][1].push_back(head.displacement_mm.y());
+    }
+  }
+  window->camera_motion_px = 0.0;
+  if (!camera[0].empty()) {
+    for (int a = 0; a < 2; ++a) {
+      window->camera_shift_px[a] = Median(camera[a]);
+      window->camera_motion_px =
+          std::max(window->camera_motion_px,
+                   Quantile(camera[a], 0.95) - Quantile(camera[a], 0.05));
+    }
+  }
+  for (int h = 0; h < num_heads; ++h) {
+    if (values[h][0].empty()) continue;
+    for (int a = 0; a < 2; ++a) {
+      const double median = Median(values[h][a]);
+      std::vector<double> deviations;
+      for (double v : values[h][a]) deviations.push_back(std::abs(v - median));
+      window->median_mm[h][a] = median;
+      window->spread_mm[h][a] = 1.4826 * Median(deviations);
+    }
+  }
+}
+
+namespace {
+
+// Why a window does not measure head `h`, or empty when it does: too few
+// frames with the head complete, or no frames at all.
+std::string WindowProblem(const TestPlan& plan,
+                          const VideoMeasurement& measurement,
+                          const ValidationOptions& options,
+                          const WindowSummary& window, int k, int h) {
+  if (window.frames > 0 &&
+      window.head_frames[h] >= options.min_window_coverage * window.frames) {
+    return "";
+  }
+  return fmt::format(
+      "{} window {:.2f}-{:.2f} s: {}", kWindowNames[k], window.start_s,
+      window.end_s,
+      window.frames == 0 ? "no frames (beyond the video?)"
+      : 2 * window.unregistered_frames > window.frames
+          ? fmt::format("{} of {} frames could not be registered to the "
+                        "bench ({})",
+                        window.unregistered_frames, window.frames,
+                        measurement.unregistered_reason)
+          : fmt::format("{} complete in {} of {} frames",
+                        plan.mechanism.heads[h].name, window.head_frames[h],
+                        window.frames));
+}
+
+// Summarises a test's three windows; the test is measured when every
+// window measures every head.
+void SummariseWindows(const TestPlan& plan, const VideoMeasurement& measurement,
+                      const ValidationOptions& options, TestScore* score) {
+  const int num_heads = plan.mechanism.NumHeads();
+  score->measured = true;
+  for (int k = 0; k < 3; ++k) {
+    WindowSummary& window = score->windows[k];
+    SummariseWindow(measurement, num_heads, &window);
+    window.camera_moved =
+        window.camera_motion_px > options.camera_motion_warning_px;
+    for (int h = 0; h < num_heads; ++h) {
+      std::string problem =
+          WindowProblem(plan, measurement, options, window, k, h);
+      if (problem.empty()) continue;
+      score->measured = false;
+      score->reason = std::move(problem);
+    }
+  }
+}
+
+// Each head's measured displacement (actuated - initial) against the model
+// and the baseline at the test's pressures, and its hysteresis (|final -
+// initial|, thesis 4.1.3).
+void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
+                TestScore* score) {
+  const Eigen::VectorXd pressures_mpa = score->pressures * plan.mpa_per_unit;
+  const Eigen::VectorXd model =
+      Predict(plan.mechanism, plan.force_model, pressures_mpa);
+  const Eigen::VectorXd spring =
+      Predict(plan.mechanism, baseline, pressures_mpa);
+  bool hysteresis_ok = true;
+  for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
+    HeadScore& head = score->heads.emplace_back();
+    head.model_mm = model.segment<2>(2 * h);
+    head.baseline_mm = spring.segment<2>(2 * h);
+    if (!score->measured) continue;
+    const Eigen::Vector2d initial = score->windows[kInitialWindow].median_mm[h];
+    head.measured_mm = score->windows[kActuatedWindow].median_mm[h] - initial;
+    head.model_error_mm = (head.measured_mm - head.model_mm).norm();
+    head.baseline_error_mm = (head.measured_mm - head.baseline_mm).norm();
+    head.hysteresis_mm =
+        (score->windows[kFinalWindow].median_mm[h] - initial).norm();
+    head.hysteresis_ok = head.hysteresis_mm <= plan.hysteresis_tolerance_mm;
+    hysteresis_ok &= head.hysteresis_ok;
+  }
+  score->status = !score->measured ? "not measured"
+                  : hysteresis_ok  ? "ok"
+                                   : "hysteresis";
+}
+
+// Per head, the error statistics of the model and the baseline over the
+// measured tests, and the model's improvement on the baseline (figs. 4.9,
+// 4.17).
+void SummariseErrors(int num_heads, ValidationResult* result) {
+  for (int h = 0; h < num_heads; ++h) {
+    std::vector<double> model, baseline;
+    for (const TestScore& t : result->tests) {
+      if (!t.measured) continue;
+      model.push_back(t.heads[h].model_error_mm);
+      baseline.push_back(t.heads[h].baseline_error_mm);
+    }
+    result->model_errors.push_back(Statistics(model));
+    result->baseline_errors.push_back(Statistics(baseline));
+    const double base = result->baseline_errors[h].mean_mm;
+    result->improvement_percent.push_back(
+        100.0 * (base - result->model_errors[h].mean_mm) / base);
+  }
+}
+
+// Repeats: tests with the same pressures, and how far apart their measured
+// displacements are, per head.
+std::vector<RepeatAgreement> Repeats(const std::vector<TestScore>& tests,
+                                     int num_heads) {
+  std::vector<RepeatAgreement> repeats;
+  std::vector<bool> grouped(tests.size(), false);
+  for (size_t i = 0; i < tests.size(); ++i) {
+    if (grouped[i]) continue;
+    RepeatAgreement group;
+    std::vector<size_t> members;
+    for (size_t j = i; j < tests.size(); ++j) {
+      if (!grouped[j] &&
+          tests[j].pressures.isApprox(tests[i].pressures, 1e-12)) {
+        grouped[j] = true;
+        members.push_back(j);
+        group.test_ids.push_back(tests[j].id);
+      }
+    }
+    if (members.size() < 2) continue;
+    for (int h = 0; h < num_heads; ++h) {
+      double largest = 0.0;
+      for (size_t a : members) {
+        for (size_t b : members) {
+          const double d =
+              (tests[a].heads[h].measured_mm - tests[b].heads[h].measured_mm)
+                  .norm();
+          if (std::isfinite(d)) largest = std::max(largest, d);
+        }
+      }
+      group.max_difference_mm.push_back(largest);
+    }
+    repeats.push_back(group);
+  }
+  return repeats;
+}
+
+// Holds shorter than the thesis's settling time, and final windows too close
+// to the release, are warned about.
+void WarnAboutTiming(const TestPlan& plan, const ValidationOptions& options,
+                     ValidationResult* result) {
+  double shortest_hold_s = INFINITY;
+  for (const PlanTest& test : plan.tests) {
+    shortest_hold_s =
+        std::min(shortest_hold_s, *test.release_s - *test.actuate_s);
+  }
+  if (shortest_hold_s < options.recommended_hold_s) {
+    result->warnings.push_back(fmt::format(
+        "holds as short as {:.1f} s: the thesis waited {:.0f} s after "
+        "actuation for viscous creep to settle, so the actuated windows may "
+        "not be at equilibrium",
+        shortest_hold_s, options.recommended_hold_s));
+  }
+}
+
+void WarnAboutSettling(const TestPlan& plan, ValidationResult* result) {
+  for (const TestScore& score : result->tests) {
+    const double rest_s = score.windows[kFinalWindow].end_s -
+                          score.windows[kActuatedWindow].end_s;
+    if (rest_s < 2.0 * plan.window_s) {
+      result->warnings.push_back(fmt::format(
+          "{}: only {:.1f} s between release and the final window's end; the "
+          "head may not have settled",
+          score.id, rest_s));
+    }
+  }
+}
+
+}  // namespace
+
+ValidationResult ScoreTests(const TestPlan& plan,
+                            const VideoMeasurement& measurement,
+                            const ValidationOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(plan.HasTimes()) << "ScoreTests needs the plan's times";
+  const int num_heads = plan.mechanism.NumHeads();
+  ValidationResult result;
+  result.model_name =
+      "axial-shear (" + std::string(VariantName(plan.force_model)) + ")";
+  result.baseline_name = "pressurized-spring";
+  const ForceModel baseline =
+      ForceModel::PressurizedSpring(plan.force_model.constants);
+  const std::vector<std::array<WindowSummary, 3>> windows =
+      PlanWindows(plan, measurement.last_frame_s);
+  for (size_t i = 0; i < plan.tests.size(); ++i) {
+    TestScore& score = result.tests.emplace_back();
+    score.id = plan.tests[i].id;
+    score.pressures = plan.tests[i].pressures;
+    score.windows = windows[i];
+    SummariseWindows(plan, measurement, options, &score);
+    ScoreHeads(plan, baseline, &score);
+    if (score.status == "hysteresis") {
+      result.hysteresis_flagged.push_back(score.id);
+    }
+  }
+  SummariseErrors(num_heads, &result);
+  result.repeats = Repeats(result.tests, num_heads);
+  result.hysteresis_cause =
+      SharedCause(plan, result.tests, result.hysteresis_flagged);
+  WarnAboutTiming(plan, options, &result);
+  WarnCameraMotion(result.tests, measurement, &result);
+  WarnAboutSettling(plan, &result);
+  return result;
+}
+
+}  // namespace softbench

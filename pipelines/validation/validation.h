@@ -1,0 +1,137 @@
+#ifndef SOFTBENCH_PIPELINES_VALIDATION_VALIDATION_H_
+#define SOFTBENCH_PIPELINES_VALIDATION_VALIDATION_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/actuator_model.h"
+#include "pipelines/formats/test_plan.h"
+#include "pipelines/measurement/video_measurement.h"
+
+namespace softbench {
+
+// The three frames of the thesis's method (4.1.3), each a window of frames.
+enum WindowKind { kInitialWindow = 0, kActuatedWindow = 1, kFinalWindow = 2 };
+inline constexpr std::array<const char*, 3> kWindowNames = {
+    "initial", "actuated", "final"};
+
+struct ValidationOptions {
+  // Holds shorter than this are warned about: the thesis waited 20 s after
+  // actuation for viscous creep to settle (4.1.3).
+  double recommended_hold_s = 20.0;
+  // A window needs the head complete (every dot found) in at least this
+  // fraction of its frames to count as measured.
+  double min_window_coverage = 0.5;
+  // A window in which the camera moved further than this (its shift's 5-95 %
+  // range, either axis) [px] is named in a warning: the registration
+  // corrects it, but a tripod that moves during a window is worth fixing.
+  // Tremor (< 0.1 px) and a slow drift stay below it; a bump does not.
+  double camera_motion_warning_px = 0.5;
+
+  std::optional<std::string> Check() const;
+};
+
+// A window's robust summary, per head.
+struct WindowSummary {
+  double start_s = 0.0;
+  double end_s = 0.0;
+  int frames = 0;                // frames in the window
+  std::vector<int> head_frames;  // frames with the head complete
+  // Median displacement from rest [mm] and the robust spread per axis
+  // (1.4826 x median absolute deviation), NaN when not measured.
+  std::vector<Eigen::Vector2d> median_mm;
+  std::vector<Eigen::Vector2d> spread_mm;
+  // The camera during the window (registered frames): its median shift
+  // since the reference frame and how far it moved within the window (the
+  // larger axis's 5-95 % range) [px]; frames not registered to the bench.
+  Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Constant(NAN);
+  double camera_motion_px = 0.0;
+  bool camera_moved = false;  // above camera_motion_warning_px
+  int unregistered_frames = 0;
+
+  // The frame the report shows for the window.
+  double middle_s() const { return 0.5 * (start_s + end_s); }
+};
+
+struct HeadScore {
+  Eigen::Vector2d measured_mm = Eigen::Vector2d::Constant(NAN);  // act - init
+  Eigen::Vector2d model_mm = Eigen::Vector2d::Constant(NAN);
+  Eigen::Vector2d baseline_mm = Eigen::Vector2d::Constant(NAN);
+  double model_error_mm = NAN;  // |measured - model| (figs. 4.9, 4.17)
+  double baseline_error_mm = NAN;
+  double hysteresis_mm = NAN;  // |final - initial|
+  bool hysteresis_ok = false;
+};
+
+struct TestScore {
+  std::string id;
+  Eigen::VectorXd pressures;  // in the plan's unit
+  std::array<WindowSummary, 3> windows;
+  std::vector<HeadScore> heads;
+  bool measured = false;  // every window measured for every head
+  std::string status;     // "ok", "hysteresis", "not measured"
+  std::string reason;     // why not measured
+};
+
+// Error statistics of one model for one head over the measured tests [mm].
+struct ErrorStatistics {
+  int tests = 0;
+  double mean_mm = NAN;
+  double max_mm = NAN;
+  double rms_mm = NAN;
+};
+
+struct RepeatAgreement {
+  std::vector<std::string> test_ids;  // tests with the same pressures
+  // Largest distance between their measured displacements, per head [mm].
+  std::vector<double> max_difference_mm;
+};
+
+struct ValidationResult {
+  std::vector<TestScore> tests;
+  std::string model_name;     // "axial-shear (small-angle)"
+  std::string baseline_name;  // "pressurized-spring"
+  // Per head.
+  std::vector<ErrorStatistics> model_errors;
+  std::vector<ErrorStatistics> baseline_errors;
+  // (baseline mean - model mean) / baseline mean, in %, per head.
+  std::vector<double> improvement_percent;
+  std::vector<RepeatAgreement> repeats;
+  std::vector<std::string> hysteresis_flagged;  // test ids
+  std::string hysteresis_cause;  // what the flagged tests share, if anything
+  std::vector<std::string> warnings;
+  // The windows in which the camera moved (camera_motion_warning_px), each
+  // once, as "b actuated" (a test's final window is the next one's
+  // initial window: "a final = b initial").
+  std::vector<std::string> camera_moved_windows;
+  // Where the test points' times came from ("the plan", "the motion ...").
+  std::string times_source = "the plan";
+};
+
+// The windows of each test from the plan's times: initial just before
+// actuation, actuated at the end of the hold, final just before the next
+// actuation (the video's end for the last test). Needs plan.HasTimes().
+std::vector<std::array<WindowSummary, 3>> PlanWindows(const TestPlan& plan,
+                                                      double video_end_s);
+
+// The middles of all windows, sorted, each once (a test's final window is
+// the next one's initial window).
+std::vector<double> WindowMiddles(
+    const std::vector<std::array<WindowSummary, 3>>& windows);
+
+// Summarises the measured frames in a window.
+void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
+                     WindowSummary* window);
+
+// Scores every test of the plan against the model and the baseline (the
+// plan's force model, and the pressurized spring with its A_z and k_s).
+ValidationResult ScoreTests(const TestPlan& plan,
+                            const VideoMeasurement& measurement,
+                            const ValidationOptions& options);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_VALIDATION_VALIDATION_H_

@@ -1,0 +1,176 @@
+// The command-line contract of predict, workspace and inverse (README).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "model/equilibrium.h"
+#include "model/units.h"
+#include "pipelines/commands/inverse_command.h"
+#include "pipelines/commands/predict_command.h"
+#include "pipelines/commands/workspace_command.h"
+#include "tests/model/thesis_mechanisms.h"
+#include "tests/pipelines/scratch_directory.h"
+#include "util/csv.h"
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CommandsTest : public ScratchDirectoryTest {
+ protected:
+  // Runs predict on `csv` and returns the InputError message ("" if none).
+  std::string PredictError(const std::string& csv) const {
+    PredictOptions options;
+    options.model.pressure_unit = "psi";
+    options.input_path = Write("in.csv", csv);
+    options.output_path = Path("out.csv");
+    std::ostringstream out;
+    try {
+      RunPredict(options, out);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+TEST_F(CommandsTest, PredictWritesTheContractColumnsInInputOrder) {
+  PredictOptions options;
+  options.model.mechanism = "floating";
+  options.model.pressure_unit = "psi";
+  options.input_path =
+      Write("in.csv", "p1,p2,p3,p4,p5\n6,0,0,0,3\n0,0,0,0,0\n");
+  options.output_path = Path("out.csv");
+  std::ostringstream out;
+  ASSERT_EQ(RunPredict(options, out), 0);
+
+  CsvReader reader(options.output_path);
+  EXPECT_EQ(reader.header(), (std::vector<std::string>{
+                                 "p1", "p2", "p3", "p4", "p5", "y1_mm", "z1_mm",
+                                 "y2_mm", "z2_mm", "converged", "residual_n"}));
+  const EquilibriumProblem problem(testing::FloatingMechanism(),
+                                   ForceModel::SmallAngle({}));
+  EquilibriumSolver solver(problem);
+  std::vector<std::string_view> fields;
+  for (const Eigen::VectorXd& psi :
+       {Eigen::VectorXd((Eigen::VectorXd(5) << 6, 0, 0, 0, 3).finished()),
+        Eigen::VectorXd(Eigen::VectorXd::Zero(5))}) {
+    ASSERT_TRUE(reader.ReadRow(&fields));
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(4);
+    ASSERT_TRUE(solver.Solve(psi * kMpaPerPsi, &x).converged());
+    for (int i = 0; i < 5; ++i) EXPECT_EQ(*ParseDouble(fields[i]), psi[i]);
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_NEAR(*ParseDouble(fields[5 + i]), x[i], 1e-6);
+    }
+    EXPECT_EQ(fields[9], "1");
+    EXPECT_LT(*ParseDouble(fields[10]), 1e-9);
+  }
+  EXPECT_FALSE(reader.ReadRow(&fields));
+}
+
+TEST_F(CommandsTest, PredictUnitsAgree) {
+  // 6 psi = 41.368542 kPa must give the same prediction.
+  std::ostringstream psi_out, kpa_out;
+  PredictOptions options;
+  options.model.pressure_unit = "psi";
+  options.pressures = "6,3,0";
+  RunPredict(options, psi_out);
+  options.model.pressure_unit = "kpa";
+  options.pressures = "41.368542,20.684271,0";
+  RunPredict(options, kpa_out);
+  const std::string psi = psi_out.str(), kpa = kpa_out.str();
+  EXPECT_EQ(psi.substr(psi.find("head:")), kpa.substr(kpa.find("head:")));
+  EXPECT_NE(psi.find("y = -0.5575 mm, z = 0.9722 mm"), std::string::npos)
+      << psi;
+}
+
+TEST_F(CommandsTest, PredictRejectsBadRowsAndWritesNothing) {
+  EXPECT_NE(PredictError("p1,p2\n1,2\n").find("in.csv:1: column p3 is missing"),
+            std::string::npos);
+  EXPECT_NE(PredictError("p1,p2,p3,p4\n1,2,3,4\n").find("p4 is one too many"),
+            std::string::npos);
+  EXPECT_NE(PredictError("p1,p2,p3\n1,2,3\n1,x,3\n")
+                .find("in.csv:3: column p2: 'x' is not a number"),
+            std::string::npos);
+  EXPECT_NE(PredictError("p1,p2,p3\n1,2,-3\n")
+                .find("in.csv:2: column p3: -3 "
+                      "is negative"),
+            std::string::npos);
+  EXPECT_NE(PredictError("p1,p2,p3\n1,2,nan\n").find("'nan' is not a number"),
+            std::string::npos);
+  EXPECT_NE(PredictError("p1,p2,p3\n1,2\n").find("in.csv:2: has 2 fields"),
+            std::string::npos);
+  EXPECT_NE(PredictError("p1,p2,p3\n").find("no pressure rows"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(Path("out.csv")));
+}
+
+TEST_F(CommandsTest, PredictErrorLeavesAnEarlierOutputUntouched) {
+  Write("out.csv", "previous\n");
+  EXPECT_NE(PredictError("p1,p2,p3\n1,2,3\n1,2,bad\n"), "");
+  EXPECT_EQ(Read(Path("out.csv")), "previous\n");
+}
+
+TEST_F(CommandsTest, PredictRejectsBadSelections) {
+  PredictOptions options;
+  options.pressures = "1,2,3";
+  std::ostringstream out;
+  options.model.mechanism = "tripod";
+  EXPECT_THROW(RunPredict(options, out), InputError);
+  options.model.mechanism = "delta";
+  options.model.pressure_unit = "bar";
+  EXPECT_THROW(RunPredict(options, out), InputError);
+  options.model.pressure_unit = "psi";
+  options.model.model = "pressurized-spring";
+  options.model.variant = "full-trig";
+  EXPECT_THROW(RunPredict(options, out), InputError);
+  options.model.variant.clear();
+  options.pressures = "1,2";
+  EXPECT_THROW(RunPredict(options, out), InputError);
+}
+
+TEST_F(CommandsTest, WorkspaceWritesEveryConfigurationAndTheExtents) {
+  WorkspaceCommandOptions options;
+  options.model.pressure_unit = "psi";
+  options.output_path = Path("map.csv");
+  std::ostringstream out;
+  ASSERT_EQ(RunWorkspace(options, out), 0);
+  CsvReader reader(options.output_path);
+  std::vector<std::string_view> fields;
+  int rows = 0;
+  while (reader.ReadRow(&fields)) ++rows;
+  EXPECT_EQ(rows, 343);
+  EXPECT_NE(out.str().find("343 configurations"), std::string::npos);
+  EXPECT_NE(out.str().find("y -1.125"), std::string::npos) << out.str();
+}
+
+TEST_F(CommandsTest, WorkspaceRejectsAStepThatDoesNotDivideTheRange) {
+  WorkspaceCommandOptions options;
+  options.step = 0.7;
+  std::ostringstream out;
+  EXPECT_THROW(RunWorkspace(options, out), InputError);
+}
+
+TEST_F(CommandsTest, InverseAnswersReachableOrUnreachable) {
+  InverseCommandOptions options;
+  options.model.pressure_unit = "psi";
+  options.target = "-1.125390,0.649744";  // predict's answer for (6, 6, 0)
+  std::ostringstream out;
+  EXPECT_EQ(RunInverse(options, out), 0);
+  EXPECT_NE(out.str().find("p1 = 6.0000, p2 = 6.0000, p3 = 0.0000 psi"),
+            std::string::npos)
+      << out.str();
+  options.target = "3,3";
+  std::ostringstream far;
+  EXPECT_EQ(RunInverse(options, far), kExitUnreachable);
+  EXPECT_NE(far.str().find("unreachable"), std::string::npos);
+  options.target = "1,2,3";
+  EXPECT_THROW(RunInverse(options, far), InputError);
+}
+
+}  // namespace
+}  // namespace softbench

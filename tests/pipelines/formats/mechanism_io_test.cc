@@ -1,0 +1,134 @@
+#include "pipelines/formats/mechanism_io.h"
+
+#include <gtest/gtest.h>
+
+#include "model/equilibrium.h"
+#include "tests/model/thesis_mechanisms.h"
+#include "util/input_error.h"
+#include "util/text_file.h"
+
+namespace softbench {
+namespace {
+
+void ExpectSameMechanism(const Mechanism& a, const Mechanism& b) {
+  ASSERT_EQ(a.NumHeads(), b.NumHeads());
+  ASSERT_EQ(a.NumActuators(), b.NumActuators());
+  for (int h = 0; h < a.NumHeads(); ++h) {
+    EXPECT_EQ(a.heads[h].name, b.heads[h].name);
+    EXPECT_LT((a.heads[h].rest_mm - b.heads[h].rest_mm).norm(), 1e-9);
+  }
+  for (int k = 0; k < a.NumActuators(); ++k) {
+    const Actuator& x = a.actuators[k];
+    const Actuator& y = b.actuators[k];
+    EXPECT_NEAR(x.rotation_rad, y.rotation_rad, 1e-12);
+    EXPECT_EQ(x.anchor.kind, y.anchor.kind);
+    EXPECT_EQ(x.anchor.index, y.anchor.index);
+    EXPECT_EQ(x.head, y.head);
+    EXPECT_LT((a.AnchorRestPosition(x) - b.AnchorRestPosition(y)).norm(), 1e-9);
+  }
+}
+
+TEST(MechanismIo, BundledFilesMatchTheSpecGeometry) {
+  ExpectSameMechanism(LoadMechanism("delta"), testing::DeltaMechanism());
+  ExpectSameMechanism(LoadMechanism("floating"), testing::FloatingMechanism());
+}
+
+TEST(MechanismIo, BuiltinNamesReadTheSampleFiles) {
+  for (const std::string& name : BuiltinMechanismNames()) {
+    ExpectSameMechanism(LoadMechanism(name),
+                        LoadMechanism(std::string(SOFTBENCH_SOURCE_DIR) +
+                                      "/samples/mechanisms/" + name + ".yaml"));
+  }
+}
+
+// The message thrown for `yaml`, or "" when it parses.
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    ParseMechanismYaml(yaml, "m.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+constexpr char kValid[] = R"(name: one
+heads:
+  - {name: h, rest_mm: [0, 0]}
+anchors:
+  - {name: a, position_mm: [0, -27]}
+actuators:
+  - {name: '1', rotation_deg: 0, anchor: a, head: h}
+)";
+
+TEST(MechanismIo, ParsesAUserWrittenFile) {
+  EXPECT_EQ(ErrorOf(kValid), "");
+  EXPECT_EQ(ParseMechanismYaml(kValid, "m.yaml").NumActuators(), 1);
+}
+
+TEST(MechanismIo, ErrorsNameTheLineAndTheField) {
+  std::string yaml = kValid;
+  yaml.replace(yaml.find("anchor: a,"), 10, "anchor: b,");
+  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:7: anchor: 'b' is neither", 0), 0)
+      << ErrorOf(yaml);
+
+  yaml = kValid;
+  yaml.replace(yaml.find("rotation_deg: 0"), 15, "rotation_deg: up");
+  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:7: rotation_deg: 'up' is not", 0), 0)
+      << ErrorOf(yaml);
+
+  yaml = kValid;
+  yaml.replace(yaml.find("rest_mm"), 7, "rest");
+  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:3: rest: unknown key", 0), 0)
+      << ErrorOf(yaml);
+
+  yaml = kValid;
+  yaml.replace(yaml.find("[0, -27]"), 8, "[0, -27");
+  EXPECT_NE(ErrorOf(yaml).find("not valid YAML"), std::string::npos)
+      << ErrorOf(yaml);
+
+  yaml = kValid;
+  yaml.replace(yaml.find("rotation_deg: 0"), 15, "rotation_deg: 90");
+  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:7: actuator '1': rotation_deg 90", 0),
+            0)
+      << ErrorOf(yaml);
+  EXPECT_NE(ErrorOf(yaml).find("set rotation_deg to 0 "), std::string::npos)
+      << ErrorOf(yaml);
+
+  EXPECT_NE(ErrorOf("name: x\nheads: []\nactuators: []\n").find("heads"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("- 1\n- 2\n").find("a mechanism file is a map"),
+            std::string::npos);
+}
+
+TEST(MechanismIo, UnknownNameOrMissingFileSaysWhatToGive) {
+  try {
+    LoadMechanism("tripod");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'delta', 'floating'"),
+              std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace softbench
+
+namespace softbench {
+namespace {
+
+TEST(MechanismIo, DocumentedExampleParsesAndSolves) {
+  const std::string doc = ReadTextFile(
+      std::string(SOFTBENCH_SOURCE_DIR) + "/docs/file-formats.md", "doc");
+  const size_t begin = doc.find("```yaml\n") + 8;
+  const std::string yaml = doc.substr(begin, doc.find("```", begin) - begin);
+  const Mechanism chain = ParseMechanismYaml(yaml, "docs/file-formats.md");
+  ASSERT_EQ(chain.NumHeads(), 2);
+  const EquilibriumProblem problem(chain, ForceModel::SmallAngle({}));
+  EquilibriumSolver solver(problem);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(4);
+  EXPECT_TRUE(solver.Solve(Eigen::Vector3d(0.04, 0.0, 0.02), &x).converged());
+  EXPECT_GT(x[1], 0.0);  // the bottom actuator pushes h1 toward +z
+}
+
+}  // namespace
+}  // namespace softbench

@@ -1,0 +1,131 @@
+#include "pipelines/formats/test_plan.h"
+
+#include <gtest/gtest.h>
+
+#include "util/input_error.h"
+#include "util/text_file.h"
+
+namespace softbench {
+namespace {
+
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    ParseTestPlan(yaml, "plan.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+constexpr char kBase[] = "mechanism: floating\npressure_unit: psi\ntests:\n";
+
+TEST(TestPlan, DefaultsGiveEveryHeadAColourAndACentredLayout) {
+  const TestPlan plan = ParseTestPlan(
+      std::string(kBase) + "  - {id: t1, pressures: [1, 2, 3, 4, 5]}\n",
+      "p.yaml");
+  ASSERT_EQ(plan.markers.size(), 2u);
+  EXPECT_EQ(plan.markers[0].color, "red");
+  EXPECT_EQ(plan.markers[1].color, "green");
+  EXPECT_EQ(plan.scene.head_side_mm, 32.0);
+  for (const MarkerSpec& m : plan.markers) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& p : m.layout_mm) mean += p / m.layout_mm.size();
+    EXPECT_LT(mean.norm(), 1e-12);
+    EXPECT_EQ(m.layout_mm.size(), 3u);
+  }
+  EXPECT_FALSE(plan.HasTimes());
+}
+
+TEST(TestPlan, RoundTripsThroughItsYaml) {
+  const TestPlan plan = ParseTestPlan(
+      std::string(kBase) +
+          "  - {id: t1, pressures: [1, 2, 3, 4, 5], actuate_s: 1, release_s: 4,"
+          " residual_offset_mm: [0.1, 0]}\n",
+      "p.yaml");
+  const TestPlan again = ParseTestPlan(TestPlanToYaml(plan, "."), "again.yaml");
+  EXPECT_EQ(again.tests[0].pressures, plan.tests[0].pressures);
+  EXPECT_EQ(*again.tests[0].release_s, 4.0);
+  EXPECT_EQ(again.tests[0].residual_offset_mm,
+            plan.tests[0].residual_offset_mm);
+  for (size_t i = 0; i < plan.markers[1].layout_mm.size(); ++i) {
+    EXPECT_LT(
+        (again.markers[1].layout_mm[i] - plan.markers[1].layout_mm[i]).norm(),
+        1e-8);
+  }
+}
+
+TEST(TestPlan, ErrorsNameTheLineAndSayWhatToChange) {
+  EXPECT_NE(
+      ErrorOf(std::string(kBase) + "  - {id: a, pressures: [1, 2]}\n")
+          .find("plan.yaml:4: pressures: mechanism 'floating' has 5 actuators"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf(std::string(kBase) + "  - {id: a, pressures: [1, 2, 3, 4, "
+                                         "5], actuate_s: 3, release_s: 2}\n")
+                .find("release_s: must be later than actuate_s"),
+            std::string::npos);
+  EXPECT_NE(
+      ErrorOf(std::string(kBase) + "  - {id: a, pressures: [1, 2, 3, 4, 5], "
+                                   "actuate_s: 1, release_s: 2}\n"
+                                   "  - {id: b, pressures: [1, 2, 3, 4, 5]}\n")
+          .find("some tests have times"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf("mechanism: tripod\npressure_unit: psi\ntests: []\n")
+                .find("plan.yaml:1: mechanism:"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: bar\ntests: []\n")
+                .find("pressure_unit: must be psi, kpa or mpa"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\nmarkers:\n"
+                    "  - {head: head, color: purple}\ntests:\n"
+                    "  - {id: a, pressures: [1, 2, 3]}\n")
+                .find("'purple' is not one of"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\ntest:\n")
+                .find("unknown key"),
+            std::string::npos);
+  const std::string delta_test = "tests:\n  - {id: a, pressures: [1, 2, 3]}\n";
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\ncalibration:\n"
+                    "  tag: {id: 1}\n  mm_per_px: 0.2\n" +
+                    delta_test)
+                .find("give one scale: tag, mm_per_px or scale_from_dots"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\nmarkers:\n"
+                    "  - {head: head, hsv: [0, 200, 0, 255, 0, 255]}\n" +
+                    delta_test)
+                .find("plan.yaml:4: hsv: hue bounds must be 0..179"),
+            std::string::npos);
+}
+
+TEST(TestPlan, MeasurementKeysRoundTrip) {
+  const TestPlan plan = ParseTestPlan(
+      "mechanism: delta\npressure_unit: psi\ncalibration:\n"
+      "  scale_from_dots: true\n  image_rotation_deg: 90\n"
+      "  focal_length_35mm: 26\n  distortion_tolerance: 0.001\n"
+      "markers:\n  - {head: head, hsv: [172, 8, 90, 255, 40, 255]}\n"
+      "tests:\n  - {id: a, pressures: [1, 2, 3]}\n",
+      "plan.yaml");
+  const TestPlan again = ParseTestPlan(TestPlanToYaml(plan, "."), "again.yaml");
+  EXPECT_TRUE(again.calibration.scale_from_dots);
+  EXPECT_EQ(again.calibration.image_rotation_deg, 90.0);
+  EXPECT_EQ(again.calibration.focal_length_35mm, 26.0);
+  EXPECT_EQ(again.calibration.distortion_tolerance, 0.001);
+  ASSERT_TRUE(again.markers[0].hsv);
+  EXPECT_EQ(*again.markers[0].hsv,
+            (std::array<int, 6>{172, 8, 90, 255, 40, 255}));
+}
+
+TEST(TestPlan, DocumentedExampleParses) {
+  const std::string doc = ReadTextFile(
+      std::string(SOFTBENCH_SOURCE_DIR) + "/docs/file-formats.md", "doc");
+  const size_t section = doc.find("## Test plan");
+  const size_t begin = doc.find("```yaml\n", section) + 8;
+  const TestPlan plan =
+      ParseTestPlan(doc.substr(begin, doc.find("```", begin) - begin),
+                    "docs/file-formats.md");
+  EXPECT_EQ(plan.tests.size(), 2u);
+  EXPECT_EQ(plan.tests[1].residual_offset_mm.x(), 0.1);
+  EXPECT_EQ(*plan.calibration.tag->center_mm, Eigen::Vector2d(60, -60));
+}
+
+}  // namespace
+}  // namespace softbench

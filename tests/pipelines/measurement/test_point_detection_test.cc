@@ -1,0 +1,91 @@
+#include "pipelines/measurement/test_point_detection.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace softbench {
+namespace {
+
+struct Step {
+  double actuate_s, release_s;
+  Eigen::Vector2d target_mm;
+};
+
+// One head settling first-order (tau) toward each step's target and back,
+// at 30 fps with measurement noise.
+VideoMeasurement Synthetic(const std::vector<Step>& steps, double end_s,
+                           double tau_s, double noise_mm) {
+  std::mt19937 random(4);
+  std::normal_distribution<double> normal(0.0, noise_mm);
+  VideoMeasurement m;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  const double dt = 1.0 / 30.0;
+  for (int frame = 0; frame * dt < end_s; ++frame) {
+    const double t = frame * dt;
+    // The target during the last frame interval: a step at t shows from the
+    // next frame on, as the renderer's continuous settling does.
+    Eigen::Vector2d target = Eigen::Vector2d::Zero();
+    for (const Step& step : steps) {
+      if (t - dt >= step.actuate_s - 1e-9 && t - dt < step.release_s - 1e-9) {
+        target = step.target_mm;
+      }
+    }
+    position += (target - position) * (1.0 - std::exp(-dt / tau_s));
+    FrameSample sample;
+    sample.frame = frame;
+    sample.time_s = t;
+    HeadSample head;
+    head.displacement_mm =
+        position + Eigen::Vector2d(normal(random), normal(random));
+    sample.heads.push_back(head);
+    m.frames.push_back(sample);
+  }
+  return m;
+}
+
+const std::vector<Step> kSteps = {{2.0, 7.0, {-1.1, 0.65}},
+                                  {10.0, 15.0, {0.0, 1.29}},
+                                  {18.0, 23.0, {-0.19, 0.11}}};
+
+TEST(TestPointDetection,
+     FindsActuationAndReleaseWithinAFewHundredthsOfASecond) {
+  for (double tau : {0.05, 0.15, 0.4}) {
+    const TestPointDetection d = DetectTestPoints(
+        Synthetic(kSteps, 26.0, tau, 0.001), 3, TestPointDetectionOptions());
+    ASSERT_TRUE(d.found) << d.why_not;
+    for (size_t i = 0; i < kSteps.size(); ++i) {
+      // The crossing of 10 % lags a first-order step by 0.105 tau.
+      EXPECT_NEAR(d.points[i].actuate_s, kSteps[i].actuate_s, 0.02 + 0.11 * tau)
+          << "tau " << tau << ", test " << i;
+      EXPECT_NEAR(d.points[i].release_s, kSteps[i].release_s, 0.02 + 0.11 * tau)
+          << "tau " << tau << ", test " << i;
+      EXPECT_NEAR(d.points[i].hold_motion_mm, kSteps[i].target_mm.norm(), 0.01);
+    }
+  }
+}
+
+TEST(TestPointDetection, SaysWhatItFoundWhenTheCountDiffers) {
+  const TestPointDetection d = DetectTestPoints(
+      Synthetic(kSteps, 26.0, 0.15, 0.001), 4, TestPointDetectionOptions());
+  EXPECT_FALSE(d.found);
+  EXPECT_NE(d.why_not.find("the motion shows 3 test points"), std::string::npos)
+      << d.why_not;
+  EXPECT_NE(d.why_not.find("2.0-7.0 s"), std::string::npos) << d.why_not;
+  EXPECT_NE(d.why_not.find("the plan lists 4"), std::string::npos);
+}
+
+TEST(TestPointDetection, IgnoresNoiseSpikesAndBridgesDropouts) {
+  VideoMeasurement m = Synthetic(kSteps, 26.0, 0.15, 0.001);
+  // A one-frame glitch at rest, and a lost head in the middle of a hold.
+  m.frames[30 * 9].heads[0].displacement_mm = {0.3, 0.3};
+  m.frames[30 * 12].heads[0].displacement_mm.setConstant(NAN);
+  const TestPointDetection d =
+      DetectTestPoints(m, 3, TestPointDetectionOptions());
+  ASSERT_TRUE(d.found) << d.why_not;
+  EXPECT_NEAR(d.points[1].actuate_s, 10.0, 0.05);
+}
+
+}  // namespace
+}  // namespace softbench
