@@ -13,12 +13,13 @@ packages=(
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   libgtest-dev libbenchmark-dev nlohmann-json3-dev
   chromium  # the tests open every HTML report in it (report/check_in_chromium.sh)
+  python3   # .ci/check_layers.py, run by the tests
 )
 # Node.js and npm install the report's plotting libraries (report/); any
 # Node.js >= 18 will do, so an existing one (e.g. NodeSource's) is kept.
 if ! command -v npm >/dev/null 2>&1; then packages+=(nodejs npm); fi
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(python3 python3-numpy python3-scipy python3-pandas python3-yaml
+  packages+=(python3-numpy python3-scipy python3-pandas python3-yaml
     python3-opencv hyperfine ffmpeg)
 fi
 

@@ -27,20 +27,11 @@ void ParseSignedColumn(const std::string& text, const std::string& what,
   *column = name;
 }
 
-ForceLogManifest ParseForceLogManifest(std::string_view yaml,
-                                       const std::string& source,
-                                       const std::string& base_directory) {
-  const YamlReader reader(source);
-  const YAML::Node root = reader.Parse(yaml);
-  if (!root.IsMap()) {
-    throw InputError(source +
-                     ": a force-log manifest is a map (see "
-                     "docs/file-formats.md#force-logs)");
-  }
-  reader.CheckKeys(root,
-                   {"pressure_unit", "columns", "axes", "tests", "combined"});
-  ForceLogManifest manifest;
-  ForceLogColumns& columns = manifest.columns;
+namespace {
+
+// The pressure unit, the column names and the sensor axes' signs.
+ForceLogColumns ParseColumns(const YamlReader& reader, const YAML::Node& root) {
+  ForceLogColumns columns;
   const YAML::Node unit_node = reader.Require(root, "pressure_unit");
   const std::string unit = reader.String(unit_node, "pressure_unit");
   if (const std::optional<double> mpa = MpaPerPressureUnit(unit)) {
@@ -70,6 +61,52 @@ ForceLogManifest ParseForceLogManifest(std::string_view yaml,
                         &columns.shear, &columns.shear_sign);
     }
   }
+  return columns;
+}
+
+// One test entry; its id must differ from the earlier `tests`'.
+ForceTest ParseTest(const YamlReader& reader, const YAML::Node& node,
+                    const std::vector<ForceTest>& earlier) {
+  ForceTest test;
+  reader.CheckKeys(node, {"id", "file", "delta_length_mm", "theta_deg",
+                          "measured_delta_length_mm", "measured_theta_deg"});
+  test.id = reader.String(reader.Require(node, "id"), "id");
+  for (const ForceTest& other : earlier) {
+    if (other.id == test.id) {
+      reader.Fail(node["id"], "id", "'" + test.id + "' is used twice");
+    }
+  }
+  test.nominal_delta_length_mm =
+      reader.Number(reader.Require(node, "delta_length_mm"), "delta_length_mm");
+  test.nominal_theta_rad =
+      DegToRad(reader.Number(reader.Require(node, "theta_deg"), "theta_deg"));
+  if (node["measured_delta_length_mm"]) {
+    test.measured_delta_length_mm = reader.Number(
+        node["measured_delta_length_mm"], "measured_delta_length_mm");
+  }
+  if (node["measured_theta_deg"]) {
+    test.measured_theta_rad = DegToRad(
+        reader.Number(node["measured_theta_deg"], "measured_theta_deg"));
+  }
+  return test;
+}
+
+}  // namespace
+
+ForceLogManifest ParseForceLogManifest(std::string_view yaml,
+                                       const std::string& source,
+                                       const std::string& base_directory) {
+  const YamlReader reader(source);
+  const YAML::Node root = reader.Parse(yaml);
+  if (!root.IsMap()) {
+    throw InputError(source +
+                     ": a force-log manifest is a map (see "
+                     "docs/file-formats.md#force-logs)");
+  }
+  reader.CheckKeys(root,
+                   {"pressure_unit", "columns", "axes", "tests", "combined"});
+  ForceLogManifest manifest;
+  manifest.columns = ParseColumns(reader, root);
   const auto resolve = [&](const std::string& file) {
     const std::filesystem::path path(file);
     return path.is_absolute() ? file : (base_directory / path).string();
@@ -89,27 +126,7 @@ ForceLogManifest ParseForceLogManifest(std::string_view yaml,
     reader.Fail(tests, "tests", "must be a non-empty list of tests");
   }
   for (const YAML::Node& node : tests) {
-    reader.CheckKeys(node, {"id", "file", "delta_length_mm", "theta_deg",
-                            "measured_delta_length_mm", "measured_theta_deg"});
-    ForceTest& test = manifest.tests.emplace_back();
-    test.id = reader.String(reader.Require(node, "id"), "id");
-    for (size_t i = 0; i + 1 < manifest.tests.size(); ++i) {
-      if (manifest.tests[i].id == test.id) {
-        reader.Fail(node["id"], "id", "'" + test.id + "' is used twice");
-      }
-    }
-    test.nominal_delta_length_mm = reader.Number(
-        reader.Require(node, "delta_length_mm"), "delta_length_mm");
-    test.nominal_theta_rad =
-        DegToRad(reader.Number(reader.Require(node, "theta_deg"), "theta_deg"));
-    if (node["measured_delta_length_mm"]) {
-      test.measured_delta_length_mm = reader.Number(
-          node["measured_delta_length_mm"], "measured_delta_length_mm");
-    }
-    if (node["measured_theta_deg"]) {
-      test.measured_theta_rad = DegToRad(
-          reader.Number(node["measured_theta_deg"], "measured_theta_deg"));
-    }
+    manifest.tests.push_back(ParseTest(reader, node, manifest.tests));
     manifest.files.push_back(
         resolve(reader.String(reader.Require(node, "file"), "file")));
   }

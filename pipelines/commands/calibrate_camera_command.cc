@@ -64,6 +64,57 @@ void AddCalibrateCameraCommand(CLI::App* c,
       ->required();
 }
 
+namespace {
+
+// The boards of every --every-s of the video.
+void ViewsFromVideo(const CalibrateCameraCommandOptions& options,
+                    const BoardOptions& board, Views* views) {
+  const std::string& source = options.video_path;
+  VideoReaderOptions reader_options;
+  reader_options.want_bgr = false;
+  VideoReader reader(options.video_path, reader_options);
+  ProgressBar progress("boards", reader.info().frame_count, !options.quiet);
+  VideoFrame frame;
+  double next_s = 0.0;
+  while (reader.Read(&frame)) {
+    progress.Update(frame.index + 1);
+    if (frame.time_s + 1e-9 < next_s) continue;
+    next_s = frame.time_s + options.every_s;
+    AddView(frame.luma, fmt::format("{} at t = {:.3f} s", source, frame.time_s),
+            board, views);
+  }
+  progress.Finish();
+}
+
+// The boards of every PNG or JPEG image in --images, in name order.
+void ViewsFromImages(const CalibrateCameraCommandOptions& options,
+                     const BoardOptions& board, Views* views) {
+  std::error_code error;
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(options.images_dir, error)) {
+    std::string ext = entry.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") {
+      files.push_back(entry.path());
+    }
+  }
+  if (error) {
+    throw InputError("--images: cannot list " + options.images_dir + " (" +
+                     error.message() + ")");
+  }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    const cv::Mat gray = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) {
+      throw InputError(file.string() +
+                       ": not a readable image; remove it or re-export it");
+    }
+    AddView(gray, file.string(), board, views);
+  }
+}
+
+}  // namespace
+
 int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
                        std::ostream& out) {
   CameraCalibrationOptions calibration;
@@ -82,51 +133,13 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
   if (options.video_path.empty() == options.images_dir.empty()) {
     throw InputError("give --video or --images (one of them)");
   }
-
   Views views;
-  std::string source;
+  const std::string& source =
+      options.video_path.empty() ? options.images_dir : options.video_path;
   if (!options.video_path.empty()) {
-    source = options.video_path;
-    VideoReaderOptions reader_options;
-    reader_options.want_bgr = false;
-    VideoReader reader(options.video_path, reader_options);
-    ProgressBar progress("boards", reader.info().frame_count, !options.quiet);
-    VideoFrame frame;
-    double next_s = 0.0;
-    while (reader.Read(&frame)) {
-      progress.Update(frame.index + 1);
-      if (frame.time_s + 1e-9 < next_s) continue;
-      next_s = frame.time_s + options.every_s;
-      AddView(frame.luma,
-              fmt::format("{} at t = {:.3f} s", source, frame.time_s),
-              calibration.board, &views);
-    }
-    progress.Finish();
+    ViewsFromVideo(options, calibration.board, &views);
   } else {
-    source = options.images_dir;
-    std::error_code error;
-    std::vector<fs::path> files;
-    for (const auto& entry :
-         fs::directory_iterator(options.images_dir, error)) {
-      std::string ext = entry.path().extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-      if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") {
-        files.push_back(entry.path());
-      }
-    }
-    if (error) {
-      throw InputError("--images: cannot list " + options.images_dir + " (" +
-                       error.message() + ")");
-    }
-    std::sort(files.begin(), files.end());
-    for (const fs::path& file : files) {
-      const cv::Mat gray = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-      if (gray.empty()) {
-        throw InputError(file.string() +
-                         ": not a readable image; remove it or re-export it");
-      }
-      AddView(gray, file.string(), calibration.board, &views);
-    }
+    ViewsFromImages(options, calibration.board, &views);
   }
   const CameraCalibrationSummary summary =
       CalibrateCamera(views.corners, views.size, calibration);

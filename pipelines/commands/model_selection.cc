@@ -22,7 +22,7 @@ ResolvedModel ResolveModel(const ModelSelection& selection) {
   resolved.mechanism = LoadMechanism(selection.mechanism);
 
   if (selection.model == "pressurized-spring") {
-    if (!selection.variant.empty()) {
+    if (selection.variant) {
       throw InputError(
           "--variant: applies to the axial-shear model only; the "
           "pressurized-spring baseline has no variants");
@@ -47,11 +47,11 @@ ResolvedModel ResolveModel(const ModelSelection& selection) {
 }
 
 ForceModel ResolveAxialShearModel(const std::string& constants_path,
-                                  const std::string& variant,
+                                  const std::optional<std::string>& variant,
                                   std::string* variant_used) {
   ConstantsFile constants;
   if (!constants_path.empty()) constants = LoadConstantsFile(constants_path);
-  const std::string name = !variant.empty()    ? variant
+  const std::string name = variant             ? *variant
                            : constants.variant ? *constants.variant
                                                : "small-angle";
   const std::optional<ForceModel> model =

@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_COMMANDS_MODEL_SELECTION_H_
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,8 +16,10 @@ namespace softbench {
 struct ModelSelection {
   std::string mechanism = "delta";    // "delta", "floating" or a YAML path
   std::string model = "axial-shear";  // or "pressurized-spring"
-  std::string variant;         // empty: the constants file's, else small-angle
-  std::string constants_path;  // empty: the thesis's constants
+  // Unset: the constants file's, else small-angle; set, even to "", it
+  // must name a variant.
+  std::optional<std::string> variant;
+  std::string constants_path;         // empty: the thesis's constants
   std::string pressure_unit = "kpa";  // a name of kPressureUnits
 };
 
@@ -36,7 +39,7 @@ ResolvedModel ResolveModel(const ModelSelection& selection);
 // small-angle) with the constants of `constants_path` (empty: the thesis's);
 // throws InputError. `variant_used` (optional) receives the variant's name.
 ForceModel ResolveAxialShearModel(const std::string& constants_path,
-                                  const std::string& variant,
+                                  const std::optional<std::string>& variant,
                                   std::string* variant_used);
 
 // MPa per unit of --pressure-unit; throws InputError naming the flag.

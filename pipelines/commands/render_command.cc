@@ -15,6 +15,7 @@
 namespace softbench {
 
 namespace fs = std::filesystem;
+// One flag per line, each with its help: a long list, not a long algorithm.
 void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--plan", options->plan_path, "test plan YAML")->required();
   c->add_option("--output", options->output_path,

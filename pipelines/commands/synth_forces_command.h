@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_COMMANDS_SYNTH_FORCES_COMMAND_H_
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -14,8 +15,8 @@ namespace softbench {
 // manifest, or one combined CSV), for `softbench fit` and its benchmark.
 struct SynthForcesCommandOptions {
   std::string output_directory;
-  std::string constants_path;  // empty: the thesis's constants
-  std::string variant;         // empty: the constants file's, else small-angle
+  std::string constants_path;          // empty: the thesis's constants
+  std::optional<std::string> variant;  // unset: the constants file's
   std::string pressure_unit = "kpa";
   bool combined = false;     // one CSV with configuration columns
   bool noise_only = false;   // switch off every imperfection but noise

@@ -24,12 +24,11 @@ namespace {
 TestPlan LoadValidationPlan(const ValidateCommandOptions& options,
                             std::optional<PressureLogTimes>* log) {
   TestPlan plan = LoadTestPlan(options.plan_path);
-  if (!options.constants_path.empty() || !options.variant.empty()) {
+  if (!options.constants_path.empty() || options.variant) {
     plan.force_model = ResolveAxialShearModel(
         options.constants_path.empty() ? plan.constants_path
                                        : options.constants_path,
-        options.variant.empty() ? std::string(VariantName(plan.force_model))
-                                : options.variant,
+        options.variant.value_or(std::string(VariantName(plan.force_model))),
         nullptr);
   }
   if (!options.pressure_log_path.empty()) {

@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_COMMANDS_VALIDATE_COMMAND_H_
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -20,8 +21,8 @@ struct ValidateCommandOptions {
   // Optional: the regulator's log (time_s, p1..pN in the plan's unit); its
   // holds give the test points' times, aligned to the video by the motion.
   std::string pressure_log_path;
-  std::string constants_path;  // overrides the plan's
-  std::string variant;         // overrides the plan's / constants file's
+  std::string constants_path;          // overrides the plan's
+  std::optional<std::string> variant;  // overrides the plan's
   // Without times in the plan: seconds at rest at the start of the video.
   double rest_s = 1.0;
   // Read only the frames of the tests' windows, seeking between them (the

@@ -32,8 +32,12 @@ void AddWorkspaceCommand(CLI::App* command, WorkspaceCommandOptions* options) {
                       "map CSV to write ('-' for standard output)");
 }
 
-int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
-  const ResolvedModel resolved = ResolveModel(options.model);
+namespace {
+
+// The number of --step intervals up to --max, checked: a whole number, and
+// not so many configurations that the map would not finish.
+int CheckedIntervals(const WorkspaceCommandOptions& options,
+                     int num_actuators) {
   if (!(options.step > 0.0) || !std::isfinite(options.step)) {
     throw InputError("--step: must be a number > 0");
   }
@@ -49,7 +53,6 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
         options.max_pressure, options.step));
   }
   if (options.threads < 0) throw InputError("--threads: must be >= 0");
-  const int num_actuators = resolved.mechanism.NumActuators();
   const double count = std::pow(num_intervals + 1.0, num_actuators);
   if (count > 5e7) {
     throw InputError(fmt::format(
@@ -57,12 +60,20 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
         "a coarser step",
         num_intervals + 1, num_actuators, count));
   }
+  return static_cast<int>(num_intervals);
+}
 
+}  // namespace
+
+int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
+  const ResolvedModel resolved = ResolveModel(options.model);
+  const int num_actuators = resolved.mechanism.NumActuators();
+  const int num_intervals = CheckedIntervals(options, num_actuators);
   WorkspaceOptions workspace_options;
   workspace_options.num_threads = options.threads;
   // Levels in the user's unit, written back as given (no MPa round trip).
   const std::vector<double> levels =
-      EvenPressureLevels(options.max_pressure, static_cast<int>(num_intervals));
+      EvenPressureLevels(options.max_pressure, num_intervals);
   for (double level : levels) {
     workspace_options.pressure_levels_mpa.push_back(level *
                                                     resolved.mpa_per_unit);

@@ -11,30 +11,28 @@
 
 namespace softbench {
 
-Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source) {
-  const YamlReader reader(source);
-  const YAML::Node root = reader.Parse(yaml);
-  if (!root.IsMap()) {
-    throw InputError(source +
-                     ": a mechanism file is a map with name, heads, anchors "
-                     "and actuators");
-  }
-  reader.CheckKeys(root,
-                   {"name", "description", "heads", "anchors", "actuators"});
-  Mechanism mechanism;
-  mechanism.name = reader.String(reader.Require(root, "name"), "name");
+namespace {
 
-  // Heads and fixed anchors share one namespace, so an actuator's `anchor`
-  // can name either.
-  enum class Kind { kHead, kFixed };
-  std::map<std::string, std::pair<Kind, int>> names;
+// Heads and fixed anchors share one namespace, so an actuator's `anchor`
+// can name either.
+enum class Kind { kHead, kFixed };
+using Names = std::map<std::string, std::pair<Kind, int>>;
+
+void AddName(const YamlReader& reader, const YAML::Node& node,
+             const std::string& name, Kind kind, int index, Names* names) {
+  if (!names->emplace(name, std::make_pair(kind, index)).second) {
+    reader.Fail(node, "name", "'" + name + "' is used twice; rename one");
+  }
+}
+
+// The heads and fixed anchors, their names into `names`.
+void ParseHeadsAndAnchors(const YamlReader& reader, const YAML::Node& root,
+                          Mechanism* mechanism_ptr, Names* names) {
+  Mechanism& mechanism = *mechanism_ptr;
   const auto add_name = [&](const YAML::Node& node, const std::string& name,
                             Kind kind, int index) {
-    if (!names.emplace(name, std::make_pair(kind, index)).second) {
-      reader.Fail(node, "name", "'" + name + "' is used twice; rename one");
-    }
+    AddName(reader, node, name, kind, index, names);
   };
-
   const YAML::Node heads = reader.Require(root, "heads");
   if (!heads.IsSequence() || heads.size() == 0) {
     reader.Fail(heads, "heads", "must be a non-empty list");
@@ -62,42 +60,63 @@ Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source) {
       mechanism.fixed_anchors.push_back(std::move(anchor));
     }
   }
+}
 
+Actuator ParseActuator(const YamlReader& reader, const YAML::Node& node,
+                       const Names& names) {
+  reader.CheckKeys(node, {"name", "rotation_deg", "anchor", "head"});
+  Actuator actuator;
+  actuator.name = reader.String(reader.Require(node, "name"), "name");
+  actuator.rotation_rad = DegToRad(
+      reader.Number(reader.Require(node, "rotation_deg"), "rotation_deg"));
+  const YAML::Node anchor_node = reader.Require(node, "anchor");
+  const auto anchor = names.find(reader.String(anchor_node, "anchor"));
+  if (anchor == names.end()) {
+    reader.Fail(anchor_node, "anchor",
+                "'" + anchor_node.Scalar() +
+                    "' is neither a head nor an anchor of this file");
+  }
+  actuator.anchor = {anchor->second.first == Kind::kHead
+                         ? AnchorRef::Kind::kHead
+                         : AnchorRef::Kind::kFixed,
+                     anchor->second.second};
+  const YAML::Node head_node = reader.Require(node, "head");
+  const auto head = names.find(reader.String(head_node, "head"));
+  if (head == names.end() || head->second.first != Kind::kHead) {
+    reader.Fail(head_node, "head",
+                "'" + head_node.Scalar() + "' is not a head of this file");
+  }
+  actuator.head = head->second.second;
+  return actuator;
+}
+
+}  // namespace
+
+Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source) {
+  const YamlReader reader(source);
+  const YAML::Node root = reader.Parse(yaml);
+  if (!root.IsMap()) {
+    throw InputError(source +
+                     ": a mechanism file is a map with name, heads, anchors "
+                     "and actuators");
+  }
+  reader.CheckKeys(root,
+                   {"name", "description", "heads", "anchors", "actuators"});
+  Mechanism mechanism;
+  mechanism.name = reader.String(reader.Require(root, "name"), "name");
+  Names names;
+  ParseHeadsAndAnchors(reader, root, &mechanism, &names);
   const YAML::Node actuators = reader.Require(root, "actuators");
   if (!actuators.IsSequence() || actuators.size() == 0) {
     reader.Fail(actuators, "actuators", "must be a non-empty list");
   }
   for (const YAML::Node& node : actuators) {
-    reader.CheckKeys(node, {"name", "rotation_deg", "anchor", "head"});
-    Actuator actuator;
-    actuator.name = reader.String(reader.Require(node, "name"), "name");
-    actuator.rotation_rad = DegToRad(
-        reader.Number(reader.Require(node, "rotation_deg"), "rotation_deg"));
-    const YAML::Node anchor_node = reader.Require(node, "anchor");
-    const auto anchor = names.find(reader.String(anchor_node, "anchor"));
-    if (anchor == names.end()) {
-      reader.Fail(anchor_node, "anchor",
-                  "'" + anchor_node.Scalar() +
-                      "' is neither a head nor an anchor of this file");
-    }
-    actuator.anchor = {anchor->second.first == Kind::kHead
-                           ? AnchorRef::Kind::kHead
-                           : AnchorRef::Kind::kFixed,
-                       anchor->second.second};
-    const YAML::Node head_node = reader.Require(node, "head");
-    const auto head = names.find(reader.String(head_node, "head"));
-    if (head == names.end() || head->second.first != Kind::kHead) {
-      reader.Fail(head_node, "head",
-                  "'" + head_node.Scalar() + "' is not a head of this file");
-    }
-    actuator.head = head->second.second;
-    mechanism.actuators.push_back(std::move(actuator));
+    mechanism.actuators.push_back(ParseActuator(reader, node, names));
   }
-
   if (const std::optional<MechanismProblem> problem = mechanism.Check()) {
     // Point at the entry at fault where there is one.
     const YAML::Node& at = problem->actuator >= 0 ? actuators[problem->actuator]
-                           : problem->head >= 0   ? heads[problem->head]
+                           : problem->head >= 0   ? root["heads"][problem->head]
                                                   : root;
     throw InputError(reader.Where(at) + problem->message);
   }
@@ -109,16 +128,24 @@ std::vector<std::string> BuiltinMechanismNames() {
 }
 
 Mechanism LoadMechanism(const std::string& name_or_path) {
-  if (name_or_path == "delta") {
-    return ParseMechanismYaml(kDeltaMechanismYaml, "built-in delta.yaml");
-  }
-  if (name_or_path == "floating") {
-    return ParseMechanismYaml(kFloatingMechanismYaml, "built-in floating.yaml");
+  // The built-in mechanisms, by name: the one list.
+  struct Builtin {
+    std::string_view name, yaml;
+  };
+  const Builtin builtins[] = {{"delta", kDeltaMechanismYaml},
+                              {"floating", kFloatingMechanismYaml}};
+  std::string names;
+  for (const Builtin& builtin : builtins) {
+    if (builtin.name == name_or_path) {
+      return ParseMechanismYaml(
+          builtin.yaml, "built-in " + std::string(builtin.name) + ".yaml");
+    }
+    names += "'" + std::string(builtin.name) + "', ";
   }
   if (!std::filesystem::is_regular_file(name_or_path)) {
-    throw InputError(name_or_path +
-                     ": no such mechanism; give 'delta', 'floating' or the "
-                     "path of a mechanism YAML file");
+    throw InputError("mechanism '" + name_or_path +
+                     "': no such mechanism; give " + names +
+                     "or the path of a mechanism YAML file");
   }
   return ParseMechanismYaml(ReadTextFile(name_or_path, "mechanism file"),
                             name_or_path);

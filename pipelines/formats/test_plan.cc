@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 
 #include "model/units.h"
@@ -112,6 +113,35 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
   }
 }
 
+// A marker's HSV bounds, checked.
+std::array<int, 6> ParseHsv(const YamlReader& reader, const YAML::Node& hsv) {
+  if (!hsv.IsSequence() || hsv.size() != 6) {
+    reader.Fail(hsv, "hsv",
+                "must be [h_low, h_high, s_low, s_high, v_low, v_high] "
+                "(as softbench tune prints)");
+  }
+  std::array<int, 6> bounds{};
+  for (size_t i = 0; i < 6; ++i) {
+    const double v = reader.Number(hsv[i], "hsv");
+    if (v != std::floor(v)) reader.Fail(hsv, "hsv", "must be whole numbers");
+    bounds[i] = static_cast<int>(v);
+  }
+  if (auto problem = CheckHsvBounds(bounds)) reader.Fail(hsv, "hsv", *problem);
+  return bounds;
+}
+
+// The index of the head `node` names in the mechanism.
+int HeadIndex(const YamlReader& reader, const YAML::Node& node,
+              const Mechanism& mechanism) {
+  const std::string name = reader.String(node, "head");
+  for (int h = 0; h < mechanism.NumHeads(); ++h) {
+    if (mechanism.heads[h].name == name) return h;
+  }
+  reader.Fail(
+      node, "head",
+      "'" + name + "' is not a head of mechanism '" + mechanism.name + "'");
+}
+
 void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
                   TestPlan* plan) {
   if (!node.IsSequence()) reader.Fail(node, "markers", "must be a list");
@@ -122,15 +152,7 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
     MarkerSpec marker;
     const YAML::Node head = reader.Require(entry, "head");
     const std::string head_name = reader.String(head, "head");
-    marker.head = -1;
-    for (int h = 0; h < plan->mechanism.NumHeads(); ++h) {
-      if (plan->mechanism.heads[h].name == head_name) marker.head = h;
-    }
-    if (marker.head < 0) {
-      reader.Fail(head, "head",
-                  "'" + head_name + "' is not a head of mechanism '" +
-                      plan->mechanism.name + "'");
-    }
+    marker.head = HeadIndex(reader, head, plan->mechanism);
     if (seen[marker.head]) {
       reader.Fail(head, "head", "'" + head_name + "' has markers twice");
     }
@@ -152,24 +174,7 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
     if (const YAML::Node diameter = entry["dot_diameter_mm"]) {
       marker.dot_diameter_mm = Positive(reader, diameter, "dot_diameter_mm");
     }
-    if (const YAML::Node hsv = entry["hsv"]) {
-      if (!hsv.IsSequence() || hsv.size() != 6) {
-        reader.Fail(hsv, "hsv",
-                    "must be [h_low, h_high, s_low, s_high, v_low, v_high] "
-                    "(as softbench tune prints)");
-      }
-      std::array<int, 6> bounds{};
-      for (size_t i = 0; i < 6; ++i) {
-        const double v = reader.Number(hsv[i], "hsv");
-        if (v != std::floor(v))
-          reader.Fail(hsv, "hsv", "must be whole numbers");
-        bounds[i] = static_cast<int>(v);
-      }
-      if (auto problem = CheckHsvBounds(bounds)) {
-        reader.Fail(hsv, "hsv", *problem);
-      }
-      marker.hsv = bounds;
-    }
+    if (const YAML::Node hsv = entry["hsv"]) marker.hsv = ParseHsv(reader, hsv);
     if (const YAML::Node layout = entry["layout_mm"]) {
       if (!layout.IsSequence() ||
           static_cast<int>(layout.size()) != marker.dots) {
@@ -322,16 +327,13 @@ std::vector<Eigen::Vector2d> DefaultDotLayout(const Mechanism& mechanism,
   return layout;
 }
 
-TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
-  const YamlReader reader(path);
-  const YAML::Node root = reader.Parse(yaml);
-  if (!root.IsMap()) throw InputError(path + ": a test plan is a YAML map");
-  reader.CheckKeys(root, {"mechanism", "constants", "variant", "pressure_unit",
-                          "calibration", "markers", "windows",
-                          "hysteresis_tolerance_mm", "tests", "scene"});
-  TestPlan plan;
-  plan.path = path;
+namespace {
 
+// The mechanism (built-in or a file beside the plan), the constants file and
+// the variant.
+void ParseModel(const YamlReader& reader, const YAML::Node& root,
+                const std::string& path, TestPlan* plan_ptr) {
+  TestPlan& plan = *plan_ptr;
   const YAML::Node mechanism = reader.Require(root, "mechanism");
   plan.mechanism_name = reader.String(mechanism, "mechanism");
   if (!IsBuiltin(plan.mechanism_name)) {
@@ -364,7 +366,11 @@ TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
         "'" + variant + "' is not a variant; use " + ModelVariantNames());
   }
   plan.force_model = *model;
+}
 
+void ParsePressureUnit(const YamlReader& reader, const YAML::Node& root,
+                       TestPlan* plan_ptr) {
+  TestPlan& plan = *plan_ptr;
   const YAML::Node unit = reader.Require(root, "pressure_unit");
   plan.pressure_unit = reader.String(unit, "pressure_unit");
   if (const std::optional<double> mpa =
@@ -373,19 +379,16 @@ TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
   } else {
     reader.Fail(unit, "pressure_unit", "must be " + PressureUnitNames());
   }
+}
 
-  if (const YAML::Node calibration = root["calibration"]) {
-    ParseCalibration(reader, calibration, &plan);
-  }
-  if (const YAML::Node scene = root["scene"])
-    ParseScene(reader, scene, &plan.scene);
-  if (plan.scene.head_side_mm == 0.0) {
-    plan.scene.head_side_mm = plan.mechanism.NumHeads() == 1 ? 40.0 : 32.0;
-  }
+// The plan's markers, or the thesis's: red dots on the delta head, another
+// colour per further head; each layout defaulted from the head's shape.
+void ParseOrDefaultMarkers(const YamlReader& reader, const YAML::Node& root,
+                           TestPlan* plan_ptr) {
+  TestPlan& plan = *plan_ptr;
   if (const YAML::Node markers = root["markers"]) {
     ParseMarkers(reader, markers, &plan);
   } else {
-    // Thesis: red dots on the delta head; another colour per further head.
     for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
       MarkerSpec marker;
       marker.head = h;
@@ -400,6 +403,30 @@ TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
                                           marker.dots, plan.scene.head_side_mm);
     }
   }
+}
+
+}  // namespace
+
+TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
+  const YamlReader reader(path);
+  const YAML::Node root = reader.Parse(yaml);
+  if (!root.IsMap()) throw InputError(path + ": a test plan is a YAML map");
+  reader.CheckKeys(root, {"mechanism", "constants", "variant", "pressure_unit",
+                          "calibration", "markers", "windows",
+                          "hysteresis_tolerance_mm", "tests", "scene"});
+  TestPlan plan;
+  plan.path = path;
+  ParseModel(reader, root, path, &plan);
+  ParsePressureUnit(reader, root, &plan);
+  if (const YAML::Node calibration = root["calibration"]) {
+    ParseCalibration(reader, calibration, &plan);
+  }
+  if (const YAML::Node scene = root["scene"])
+    ParseScene(reader, scene, &plan.scene);
+  if (plan.scene.head_side_mm == 0.0) {
+    plan.scene.head_side_mm = plan.mechanism.NumHeads() == 1 ? 40.0 : 32.0;
+  }
+  ParseOrDefaultMarkers(reader, root, &plan);
   if (const YAML::Node windows = root["windows"]) {
     reader.CheckKeys(windows, {"length_s"});
     if (const YAML::Node length = windows["length_s"]) {
@@ -418,28 +445,19 @@ TestPlan LoadTestPlan(const std::string& path) {
   return ParseTestPlan(ReadTextFile(path, "test plan"), path);
 }
 
-std::string TestPlanToYaml(const TestPlan& plan,
-                           const std::string& output_dir) {
-  const auto relative = [&](const std::string& file) {
-    return fs::relative(fs::absolute(file), fs::absolute(output_dir)).string();
-  };
-  YAML::Emitter out;
-  out.SetDoublePrecision(10);
-  out << YAML::BeginMap;
-  out << YAML::Key << "mechanism" << YAML::Value
-      << (plan.mechanism_path.empty() ? plan.mechanism_name
-                                      : relative(plan.mechanism_path));
-  if (!plan.constants_path.empty()) {
-    out << YAML::Key << "constants" << YAML::Value
-        << relative(plan.constants_path);
-  }
-  out << YAML::Key << "variant" << YAML::Value
-      << std::string(VariantName(plan.force_model));
-  out << YAML::Key << "pressure_unit" << YAML::Value << plan.pressure_unit;
+namespace {
+
+// A file name relative to the directory a written plan goes to.
+using RelativeTo = std::function<std::string(const std::string&)>;
+
+// The calibration section; keys beyond the defaults only when set, so
+// rendered plans stay short.
+void EmitCalibration(const TestPlan& plan, const RelativeTo& relative,
+                     YAML::Emitter* emitter) {
+  YAML::Emitter& out = *emitter;
   out << YAML::Key << "calibration" << YAML::Value << YAML::BeginMap;
   const CalibrationSpec& c = plan.calibration;
   out << YAML::Key << "plane_offset_mm" << YAML::Value << c.plane_offset_mm;
-  // Keys beyond the defaults only when set, so rendered plans stay short.
   if (!c.intrinsics_path.empty()) {
     out << YAML::Key << "intrinsics" << YAML::Value
         << relative(c.intrinsics_path);
@@ -475,6 +493,10 @@ std::string TestPlanToYaml(const TestPlan& plan,
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
+}
+
+void EmitMarkers(const TestPlan& plan, YAML::Emitter* emitter) {
+  YAML::Emitter& out = *emitter;
   out << YAML::Key << "markers" << YAML::Value << YAML::BeginSeq;
   for (const MarkerSpec& m : plan.markers) {
     out << YAML::Flow << YAML::BeginMap;
@@ -496,11 +518,10 @@ std::string TestPlanToYaml(const TestPlan& plan,
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
-  out << YAML::Key << "windows" << YAML::Value << YAML::Flow << YAML::BeginMap
-      << YAML::Key << "length_s" << YAML::Value << plan.window_s
-      << YAML::EndMap;
-  out << YAML::Key << "hysteresis_tolerance_mm" << YAML::Value
-      << plan.hysteresis_tolerance_mm;
+}
+
+void EmitScene(const TestPlan& plan, YAML::Emitter* emitter) {
+  YAML::Emitter& out = *emitter;
   const SceneSpec& s = plan.scene;
   out << YAML::Key << "scene" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "settle_time_constant_s" << YAML::Value
@@ -513,6 +534,10 @@ std::string TestPlanToYaml(const TestPlan& plan,
   out << YAML::Key << "hold_s" << YAML::Value << s.hold_s;
   out << YAML::Key << "rest_s" << YAML::Value << s.rest_s;
   out << YAML::EndMap;
+}
+
+void EmitTests(const TestPlan& plan, YAML::Emitter* emitter) {
+  YAML::Emitter& out = *emitter;
   out << YAML::Key << "tests" << YAML::Value << YAML::BeginSeq;
   for (const PlanTest& t : plan.tests) {
     out << YAML::Flow << YAML::BeginMap;
@@ -532,7 +557,39 @@ std::string TestPlanToYaml(const TestPlan& plan,
     }
     out << YAML::EndMap;
   }
-  out << YAML::EndSeq << YAML::EndMap;
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+std::string TestPlanToYaml(const TestPlan& plan,
+                           const std::string& output_dir) {
+  const RelativeTo relative = [&](const std::string& file) {
+    return fs::relative(fs::absolute(file), fs::absolute(output_dir)).string();
+  };
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << YAML::BeginMap;
+  out << YAML::Key << "mechanism" << YAML::Value
+      << (plan.mechanism_path.empty() ? plan.mechanism_name
+                                      : relative(plan.mechanism_path));
+  if (!plan.constants_path.empty()) {
+    out << YAML::Key << "constants" << YAML::Value
+        << relative(plan.constants_path);
+  }
+  out << YAML::Key << "variant" << YAML::Value
+      << std::string(VariantName(plan.force_model));
+  out << YAML::Key << "pressure_unit" << YAML::Value << plan.pressure_unit;
+  EmitCalibration(plan, relative, &out);
+  EmitMarkers(plan, &out);
+  out << YAML::Key << "windows" << YAML::Value << YAML::Flow << YAML::BeginMap
+      << YAML::Key << "length_s" << YAML::Value << plan.window_s
+      << YAML::EndMap;
+  out << YAML::Key << "hysteresis_tolerance_mm" << YAML::Value
+      << plan.hysteresis_tolerance_mm;
+  EmitScene(plan, &out);
+  EmitTests(plan, &out);
+  out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 

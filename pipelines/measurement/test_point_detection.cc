@@ -34,14 +34,12 @@ std::optional<std::string> TestPointDetectionOptions::Check() const {
   return std::nullopt;
 }
 
-TestPointDetection DetectTestPoints(const VideoMeasurement& measurement,
-                                    int expected,
-                                    const TestPointDetectionOptions& options) {
-  TestPointDetection result;
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
-  // The motion signal: the largest distance of any head from rest, over the
-  // frames where every head was measured.
-  std::vector<double> t, motion;
+namespace {
+
+// The motion signal: the largest distance of any head from rest, over the
+// frames where every head was measured.
+void MotionSignal(const VideoMeasurement& measurement, std::vector<double>* t,
+                  std::vector<double>* motion) {
   for (const FrameSample& frame : measurement.frames) {
     double largest = 0.0;
     bool complete = true;
@@ -50,20 +48,19 @@ TestPointDetection DetectTestPoints(const VideoMeasurement& measurement,
       if (complete) largest = std::max(largest, head.displacement_mm.norm());
     }
     if (!complete) continue;
-    t.push_back(frame.time_s);
-    motion.push_back(largest);
+    t->push_back(frame.time_s);
+    motion->push_back(largest);
   }
-  if (t.size() < 3) {
-    result.why_not = "too few frames with every head measured";
-    return result;
-  }
-  result.threshold_mm = std::max(options.min_motion_mm,
-                                 options.noise_factor * Quantile(motion, 0.1));
+}
 
-  // Excursions above the threshold, merged across short gaps.
-  std::vector<std::pair<size_t, size_t>> runs;  // [first, last] frames
+// Excursions above the threshold, merged across short gaps, as [first,
+// last] frames; those shorter than a hold dropped.
+std::vector<std::pair<size_t, size_t>> Excursions(
+    const std::vector<double>& t, const std::vector<double>& motion,
+    double threshold_mm, const TestPointDetectionOptions& options) {
+  std::vector<std::pair<size_t, size_t>> runs;
   for (size_t i = 0; i < t.size(); ++i) {
-    if (motion[i] <= result.threshold_mm) continue;
+    if (motion[i] <= threshold_mm) continue;
     if (!runs.empty() && t[i] - t[runs.back().second] < options.min_gap_s) {
       runs.back().second = i;
     } else {
@@ -73,48 +70,78 @@ TestPointDetection DetectTestPoints(const VideoMeasurement& measurement,
   std::erase_if(runs, [&](const std::pair<size_t, size_t>& run) {
     return t[run.second] - t[run.first] < options.min_hold_s;
   });
-  const double f = options.crossing_fraction;
-  for (size_t r = 0; r < runs.size(); ++r) {
-    const auto [first, last] = runs[r];
-    // The hold's level at its end: the median over the second before the
-    // motion falls below half its peak (robust to the fall's own frames,
-    // which last 0.7 tau above half).
-    const double peak =
-        *std::max_element(motion.begin() + first, motion.begin() + last + 1);
-    size_t half = last;
-    while (half > first && motion[half] < 0.5 * peak) --half;
-    std::vector<double> late;
-    for (size_t i = first; i <= half; ++i) {
-      if (t[i] >= t[half] - 1.0) late.push_back(motion[i]);
-    }
-    const double level = Median(late);
-    DetectedTestPoint point;
-    point.hold_motion_mm = level;
-    // Actuation: the first crossing of f * level on the way up, searched
-    // back from the run's start.
-    size_t a = first;
-    while (a > 0 && motion[a - 1] >= f * level) --a;
-    point.actuate_s = a > 0 ? Crossing(t, motion, a - 1, a, f * level) : t[a];
-    // Release: the last frame at (1 - f) of the level before the fall.
-    size_t b = last;
-    while (b > first && motion[b] < (1.0 - f) * level) --b;
-    point.release_s = b + 1 < t.size()
-                          ? Crossing(t, motion, b, b + 1, (1.0 - f) * level)
-                          : t[b];
-    result.points.push_back(point);
+  return runs;
+}
+
+// One excursion's test point: its hold level, and the crossings of a
+// fraction f of it on the way up and down.
+DetectedTestPoint TestPointOf(const std::vector<double>& t,
+                              const std::vector<double>& motion, size_t first,
+                              size_t last, double f) {
+  // The hold's level at its end: the median over the second before the
+  // motion falls below half its peak (robust to the fall's own frames,
+  // which last 0.7 tau above half).
+  const double peak =
+      *std::max_element(motion.begin() + first, motion.begin() + last + 1);
+  size_t half = last;
+  while (half > first && motion[half] < 0.5 * peak) --half;
+  std::vector<double> late;
+  for (size_t i = first; i <= half; ++i) {
+    if (t[i] >= t[half] - 1.0) late.push_back(motion[i]);
+  }
+  const double level = Median(late);
+  DetectedTestPoint point;
+  point.hold_motion_mm = level;
+  // Actuation: the first crossing of f * level on the way up, searched
+  // back from the run's start.
+  size_t a = first;
+  while (a > 0 && motion[a - 1] >= f * level) --a;
+  point.actuate_s = a > 0 ? Crossing(t, motion, a - 1, a, f * level) : t[a];
+  // Release: the last frame at (1 - f) of the level before the fall.
+  size_t b = last;
+  while (b > first && motion[b] < (1.0 - f) * level) --b;
+  point.release_s = b + 1 < t.size()
+                        ? Crossing(t, motion, b, b + 1, (1.0 - f) * level)
+                        : t[b];
+  return point;
+}
+
+std::string WrongCount(const TestPointDetection& result, int expected) {
+  std::string seen;
+  for (const DetectedTestPoint& p : result.points) {
+    seen += fmt::format("{}{:.1f}-{:.1f} s", seen.empty() ? "" : ", ",
+                        p.actuate_s, p.release_s);
+  }
+  return fmt::format(
+      "the motion shows {} test point{} (heads more than {:.3f} mm from "
+      "rest{}{}) but the plan lists {}; give the tests' actuate_s and "
+      "release_s, or check the plan's test list",
+      result.points.size(), result.points.size() == 1 ? "" : "s",
+      result.threshold_mm, seen.empty() ? "" : ": ", seen, expected);
+}
+
+}  // namespace
+
+TestPointDetection DetectTestPoints(const VideoMeasurement& measurement,
+                                    int expected,
+                                    const TestPointDetectionOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  TestPointDetection result;
+  std::vector<double> t, motion;
+  MotionSignal(measurement, &t, &motion);
+  if (t.size() < 3) {
+    result.why_not = "too few frames with every head measured";
+    return result;
+  }
+  result.threshold_mm = std::max(options.min_motion_mm,
+                                 options.noise_factor * Quantile(motion, 0.1));
+  for (const auto& [first, last] :
+       Excursions(t, motion, result.threshold_mm, options)) {
+    result.points.push_back(
+        TestPointOf(t, motion, first, last, options.crossing_fraction));
   }
   if (static_cast<int>(result.points.size()) != expected) {
-    std::string seen;
-    for (const DetectedTestPoint& p : result.points) {
-      seen += fmt::format("{}{:.1f}-{:.1f} s", seen.empty() ? "" : ", ",
-                          p.actuate_s, p.release_s);
-    }
-    result.why_not = fmt::format(
-        "the motion shows {} test point{} (heads more than {:.3f} mm from "
-        "rest{}{}) but the plan lists {}; give the tests' actuate_s and "
-        "release_s, or check the plan's test list",
-        result.points.size(), result.points.size() == 1 ? "" : "s",
-        result.threshold_mm, seen.empty() ? "" : ": ", seen, expected);
+    result.why_not = WrongCount(result, expected);
     return result;
   }
   result.found = true;

@@ -245,6 +245,16 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
   }
 }
 
+// "every frame, by tag 3 and 40 static patches".
+std::string RegistrationMethod(const TestPlan& plan,
+                               const RegistrationReference& reference,
+                               int patches) {
+  return fmt::format(
+      "every frame, by {}{} static patches",
+      reference.tag ? fmt::format("tag {} and ", plan.calibration.tag->id) : "",
+      patches);
+}
+
 // Refuses a measurement with no frames, or with most of them not
 // registered to the bench.
 void CheckFramesRegistered(const VideoMeasurement& m) {
@@ -257,6 +267,19 @@ void CheckFramesRegistered(const VideoMeasurement& m) {
         "keep the plan's tag uncovered and in view for the whole video",
         m.video_path, m.unregistered_frames, m.frames.size(),
         UnregisteredSpans(m.frames), m.unregistered_reason));
+  }
+}
+
+// After the frames: checks, rest positions, displacements and the
+// distortion check.
+void Finish(const TestPlan& plan, const VideoInfo& info, double rest_s,
+            VideoMeasurement* m) {
+  CheckFramesRegistered(*m);
+  m->last_frame_s =
+      m->every_frame ? m->frames.back().time_s : info.LastFrameS();
+  SetDisplacements(plan, rest_s, m);
+  if (plan.calibration.intrinsics_path.empty()) {
+    m->distortion = CheckDistortion(plan, m->frames, m->scale_source);
   }
 }
 
@@ -314,12 +337,8 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   measurers.front().RequireCompleteFirstFrame();
   m.registers_frames = registrations.reference.has_value();
   m.registration = m.registers_frames
-                       ? fmt::format("every frame, by {}{} static patches",
-                                     registrations.reference->tag
-                                         ? fmt::format("tag {} and ",
-                                                       plan.calibration.tag->id)
-                                         : "",
-                                     measurers.front().patch_count())
+                       ? RegistrationMethod(plan, *registrations.reference,
+                                            measurers.front().patch_count())
                        : why_still;
   std::vector<std::unique_ptr<VideoReader>> window_readers;
   if (m.every_frame) {
@@ -335,12 +354,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
     FollowCameraPath(mapping, measurers.front().tracker(), options.camera_path,
                      info.frame_interval_s, &m.frames);
   }
-  CheckFramesRegistered(m);
-  m.last_frame_s = m.every_frame ? m.frames.back().time_s : info.LastFrameS();
-  SetDisplacements(plan, options.rest_s, &m);
-  if (plan.calibration.intrinsics_path.empty()) {
-    m.distortion = CheckDistortion(plan, m.frames, m.scale_source);
-  }
+  Finish(plan, info, options.rest_s, &m);
   return m;
 }
 

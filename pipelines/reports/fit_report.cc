@@ -318,6 +318,8 @@ json ForcePressureChart(const FitRun& run, const std::vector<BinRow>& bins,
 
 // Fig. 3.18: static offsets, axial against shear, with the model's grid of
 // constant dL and constant theta; figs. 3.15/3.16 as the grid's projections.
+// (One Vega-Lite specification, written as one declarative value: split
+// into pieces it would read worse.)
 json StaticOffsetChart(const FitRun& run, const ForceFitSummary& fit,
                        const FitModel& fit_model) {
   json values = json::array();
@@ -406,6 +408,8 @@ json StaticOffsetChart(const FitRun& run, const ForceFitSummary& fit,
 // Figs. 3.15 / 3.16: static offsets against dL and against theta, measured
 // per configuration, with the model's lines through the other variable's
 // nominal values.
+// (One Vega-Lite specification, written as one declarative value: split
+// into pieces it would read worse.)
 json StaticOffsetProjectionChart(const FitRun& run, const ForceFitSummary& fit,
                                  const FitModel& fit_model) {
   const ForceModel model = FittedModel(fit_model, fit);
@@ -535,6 +539,8 @@ json EffectiveAreaChart(const FitRun& run, const ForceFitSummary& fit) {
 // Residuals by pressure, per model and direction: mean and spread per
 // configuration and pressure bin (repeats and both ramps pooled), exact from
 // the moments. Shows where in the ramp each model misses.
+// (One Vega-Lite specification, written as one declarative value: split
+// into pieces it would read worse.)
 json ResidualChart(const FitRun& run, const std::vector<BinRow>& bins) {
   struct Pool {
     double rows = 0.0, pressure = 0.0, sum = 0.0, sum_squares = 0.0;
@@ -649,17 +655,9 @@ std::string Fixed(double value, int digits) {
   return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : "-";
 }
 
-std::string ReportHtml(const FitRun& run, const std::vector<BinRow>& bins) {
-  HtmlReport report("Actuator characterisation: " + run.input_path);
-  report.AddParagraph(fmt::format(
-      "{} tests, {} rows ({} skipped) in {:.1f} s. Models of thesis section "
-      "3.3 fitted to all rows (Algorithm 1); standard errors assume "
-      "independent rows with one noise level per direction.",
-      run.tests.size(), run.read.rows, run.read.rows_skipped, run.seconds));
-  for (const std::string& example : run.read.skipped_examples) {
-    report.AddParagraph("skipped " + example);
-  }
-  report.AddHeading("Fitted constants and goodness of fit");
+// The fitted constants with standard errors and the goodness of fit of
+// every model (thesis Table 3.2's terms).
+void AddConstantsTable(const FitRun& run, HtmlReport* report) {
   std::vector<std::vector<std::string>> rows;
   for (const ForceFitSummary& fit : run.fits) {
     std::vector<std::string> row = {fit.model_name};
@@ -683,10 +681,43 @@ std::string ReportHtml(const FitRun& run, const std::vector<BinRow>& bins) {
     row.push_back(fit.method);
     rows.push_back(row);
   }
-  report.AddTable({"model", "A_z [mm²]", "W_y [mm²/rad]", "k_s [N/mm]",
-                   "k_θ [N/rad]", "axial R²", "axial RMSE [N] (% FSR)",
-                   "shear R²", "shear RMSE [N] (% FSR)", "method"},
-                  rows);
+  report->AddTable({"model", "A_z [mm²]", "W_y [mm²/rad]", "k_s [N/mm]",
+                    "k_θ [N/rad]", "axial R²", "axial RMSE [N] (% FSR)",
+                    "shear R²", "shear RMSE [N] (% FSR)", "method"},
+                   rows);
+}
+
+// Per configuration: static offsets, effective areas and hysteresis.
+void AddConfigurationTable(const FitRun& run, HtmlReport* report) {
+  std::vector<std::vector<std::string>> table;
+  for (const ConfigurationAnalysis& c : run.configurations) {
+    table.push_back(
+        {ConfigurationName(c.nominal_delta_length_mm, c.nominal_theta_rad),
+         std::to_string(c.tests.size()), Fixed(c.static_offset_n[0], 3),
+         Fixed(c.static_offset_n[1], 3), Fixed(c.axial_area_mm2, 1),
+         Fixed(c.shear_area_mm2, 1), Fixed(c.hysteresis_max_n[0], 3),
+         Fixed(c.hysteresis_max_n[1], 3), Fixed(c.hysteresis_mean_n[0], 3),
+         Fixed(c.hysteresis_mean_n[1], 3)});
+  }
+  report->AddTable({"configuration", "tests", "static axial [N]",
+                    "static shear [N]", "A_z,eff [mm²]", "A_y,eff [mm²]",
+                    "hysteresis axial max [N]", "hysteresis shear max [N]",
+                    "hysteresis axial mean [N]", "hysteresis shear mean [N]"},
+                   table);
+}
+
+std::string ReportHtml(const FitRun& run, const std::vector<BinRow>& bins) {
+  HtmlReport report("Actuator characterisation: " + run.input_path);
+  report.AddParagraph(fmt::format(
+      "{} tests, {} rows ({} skipped) in {:.1f} s. Models of thesis section "
+      "3.3 fitted to all rows (Algorithm 1); standard errors assume "
+      "independent rows with one noise level per direction.",
+      run.tests.size(), run.read.rows, run.read.rows_skipped, run.seconds));
+  for (const std::string& example : run.read.skipped_examples) {
+    report.AddParagraph("skipped " + example);
+  }
+  report.AddHeading("Fitted constants and goodness of fit");
+  AddConstantsTable(run, &report);
   int chosen = -1;
   for (size_t m = 0; m < run.fits.size(); ++m) {
     if (run.fits[m].ok && chosen < 0) chosen = static_cast<int>(m);
@@ -708,21 +739,7 @@ std::string ReportHtml(const FitRun& run, const std::vector<BinRow>& bins) {
   report.AddChart(TestRmseChart(run));
   report.AddHeading(
       "Configurations and hysteresis (up-ramp line minus down-ramp line)");
-  std::vector<std::vector<std::string>> table;
-  for (const ConfigurationAnalysis& c : run.configurations) {
-    table.push_back(
-        {ConfigurationName(c.nominal_delta_length_mm, c.nominal_theta_rad),
-         std::to_string(c.tests.size()), Fixed(c.static_offset_n[0], 3),
-         Fixed(c.static_offset_n[1], 3), Fixed(c.axial_area_mm2, 1),
-         Fixed(c.shear_area_mm2, 1), Fixed(c.hysteresis_max_n[0], 3),
-         Fixed(c.hysteresis_max_n[1], 3), Fixed(c.hysteresis_mean_n[0], 3),
-         Fixed(c.hysteresis_mean_n[1], 3)});
-  }
-  report.AddTable({"configuration", "tests", "static axial [N]",
-                   "static shear [N]", "A_z,eff [mm²]", "A_y,eff [mm²]",
-                   "hysteresis axial max [N]", "hysteresis shear max [N]",
-                   "hysteresis axial mean [N]", "hysteresis shear mean [N]"},
-                  table);
+  AddConfigurationTable(run, &report);
   return report.Render();
 }
 

@@ -335,19 +335,12 @@ std::string FormatMm(double value) {
   return std::isfinite(value) ? fmt::format("{:.4f}", value) : "";
 }
 
-std::string ValidationReportHtml(const TestPlan& plan,
-                                 const VideoMeasurement& m,
-                                 const ValidationResult& r) {
-  HtmlReport report("Validation: " + m.video_path);
-  report.AddParagraph(fmt::format(
-      "{} mechanism, plan {}, {} test points (times from {}); model {} "
-      "against the baseline {}.",
-      plan.mechanism.name, plan.path, r.tests.size(), r.times_source,
-      r.model_name, r.baseline_name));
-  for (const std::string& warning : r.warnings) {
-    report.AddParagraph("Warning: " + warning);
-  }
-  report.AddHeading("Summary");
+namespace {
+
+// The error statistics of the model and the baseline, per head.
+void AddSummary(const TestPlan& plan, const ValidationResult& r,
+                HtmlReport* report) {
+  report->AddHeading("Summary");
   std::vector<std::vector<std::string>> rows;
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     const ErrorStatistics& a = r.model_errors[h];
@@ -357,18 +350,16 @@ std::string ValidationReportHtml(const TestPlan& plan,
                     FormatMm(b.mean_mm), FormatMm(b.max_mm), FormatMm(b.rms_mm),
                     fmt::format("{:.0f} %", r.improvement_percent[h])});
   }
-  report.AddTable(
+  report->AddTable(
       {"head", "tests", "model mean [mm]", "model max", "model RMS",
        "baseline mean", "baseline max", "baseline RMS", "improvement"},
       rows);
-  report.AddChart(PositionChart(plan, r));
-  report.AddChart(ErrorChart(plan, r));
-  report.AddChart(TrajectoryChart(plan, m, r));
-  if (m.registers_frames) report.AddChart(CameraMotionChart(m, r));
-  report.AddHeading("Frames");
-  AddCrops(plan, m, r, &report);
-  report.AddHeading("Test points");
-  rows.clear();
+}
+
+void AddTestTable(const TestPlan& plan, const ValidationResult& r,
+                  HtmlReport* report) {
+  report->AddHeading("Test points");
+  std::vector<std::vector<std::string>> rows;
   for (const TestScore& t : r.tests) {
     for (size_t h = 0; h < t.heads.size(); ++h) {
       const HeadScore& s = t.heads[h];
@@ -379,19 +370,16 @@ std::string ValidationReportHtml(const TestPlan& plan,
                       t.status + (t.reason.empty() ? "" : ": " + t.reason)});
     }
   }
-  report.AddTable(
+  report->AddTable(
       {"test", "head", "measured dy [mm]", "measured dz [mm]",
        "model error [mm]", "baseline error [mm]", "hysteresis [mm]", "status"},
       rows);
-  report.AddHeading("Hysteresis");
-  report.AddParagraph(fmt::format(
-      "Tolerance {} mm; flagged: {}. {}", plan.hysteresis_tolerance_mm,
-      r.hysteresis_flagged.empty()
-          ? std::string("none")
-          : fmt::format("{}", fmt::join(r.hysteresis_flagged, ", ")),
-      r.hysteresis_cause));
-  report.AddHeading("Repeats");
-  rows.clear();
+}
+
+void AddRepeats(const TestPlan& plan, const ValidationResult& r,
+                HtmlReport* report) {
+  report->AddHeading("Repeats");
+  std::vector<std::vector<std::string>> rows;
   for (const RepeatAgreement& group : r.repeats) {
     std::vector<std::string> row = {
         fmt::format("{}", fmt::join(group.test_ids, ", "))};
@@ -402,9 +390,14 @@ std::string ValidationReportHtml(const TestPlan& plan,
   for (const Head& head : plan.mechanism.heads) {
     header.push_back(head.name + ": largest difference [mm]");
   }
-  report.AddTable(header, rows);
-  report.AddHeading("Calibration");
-  report.AddTable(
+  report->AddTable(header, rows);
+}
+
+// How pixels became millimetres, and how the frames went.
+void AddCalibration(const TestPlan& plan, const VideoMeasurement& m,
+                    HtmlReport* report) {
+  report->AddHeading("Calibration");
+  report->AddTable(
       {"item", "value"},
       {{"scale", m.scale_source},
        {"tag", plan.calibration.tag
@@ -433,6 +426,39 @@ std::string ValidationReportHtml(const TestPlan& plan,
        {"dot-frames missing", std::to_string(m.missing_dots)},
        {"frames searched in full", std::to_string(m.full_frame_frames)},
        {"same-colour blobs rejected", std::to_string(m.rejected_blobs)}});
+}
+
+}  // namespace
+
+std::string ValidationReportHtml(const TestPlan& plan,
+                                 const VideoMeasurement& m,
+                                 const ValidationResult& r) {
+  HtmlReport report("Validation: " + m.video_path);
+  report.AddParagraph(fmt::format(
+      "{} mechanism, plan {}, {} test points (times from {}); model {} "
+      "against the baseline {}.",
+      plan.mechanism.name, plan.path, r.tests.size(), r.times_source,
+      r.model_name, r.baseline_name));
+  for (const std::string& warning : r.warnings) {
+    report.AddParagraph("Warning: " + warning);
+  }
+  AddSummary(plan, r, &report);
+  report.AddChart(PositionChart(plan, r));
+  report.AddChart(ErrorChart(plan, r));
+  report.AddChart(TrajectoryChart(plan, m, r));
+  if (m.registers_frames) report.AddChart(CameraMotionChart(m, r));
+  report.AddHeading("Frames");
+  AddCrops(plan, m, r, &report);
+  AddTestTable(plan, r, &report);
+  report.AddHeading("Hysteresis");
+  report.AddParagraph(fmt::format(
+      "Tolerance {} mm; flagged: {}. {}", plan.hysteresis_tolerance_mm,
+      r.hysteresis_flagged.empty()
+          ? std::string("none")
+          : fmt::format("{}", fmt::join(r.hysteresis_flagged, ", ")),
+      r.hysteresis_cause));
+  AddRepeats(plan, r, &report);
+  AddCalibration(plan, m, &report);
   return report.Render();
 }
 

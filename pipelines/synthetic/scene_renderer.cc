@@ -211,7 +211,31 @@ SceneRenderer::SceneRenderer(const TestPlan& plan, const RenderOptions& options)
   DrawStatic();
 }
 
+namespace {
+
+// The image box of a circle on the plane at `height`.
+cv::Rect CircleBox(const Camera& camera, const Eigen::Vector2d& centre,
+                   double radius, double height) {
+  std::vector<Eigen::Vector2d> circle;
+  for (int i = 0; i < 16; ++i) {
+    const double a = 2 * std::numbers::pi * i / 16;
+    circle.push_back(centre +
+                     radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  return ImageBox(camera, circle, height);
+}
+
+}  // namespace
+
 void SceneRenderer::DrawStatic() {
+  DrawTable();
+  if (options_.ring) DrawRing();
+  background_without_tag_ = background_.clone();
+  if (plan_.calibration.tag) DrawTag();
+  MakeGain();
+}
+
+void SceneRenderer::DrawTable() {
   const CameraIntrinsics& k = options_.intrinsics;
   // Table: a grey-brown surface with coarse and fine grain (seeded).
   cv::RNG rng(options_.seed ^ 0x5EEDF00DULL);
@@ -225,71 +249,65 @@ void SceneRenderer::DrawStatic() {
   std::vector<cv::Mat> channels(3);
   for (int c = 0; c < 3; ++c) channels[c] = grain + kTableColor[c];
   cv::merge(channels, background_);
+}
 
-  const PixelGrid& px = *pixels_;
-  const Eigen::Matrix3d on_ring = camera_.NormalizedFromPlane(0.0).inverse();
-  const auto box = [&](const Eigen::Vector2d& centre, double radius,
-                       double height) {
-    std::vector<Eigen::Vector2d> circle;
-    for (int i = 0; i < 16; ++i) {
-      const double a = 2 * std::numbers::pi * i / 16;
-      circle.push_back(centre +
-                       radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
-    }
-    return ImageBox(camera_, circle, height);
-  };
-
-  // Ring with a pad from each fixed anchor out to it (the mating surfaces).
+// The ring with a pad from each fixed anchor out to it (the mating
+// surfaces).
+void SceneRenderer::DrawRing() {
   const Mechanism& m = plan_.mechanism;
-  if (options_.ring)
-    Composite(
-        px, on_ring, box(centre_mm_, ring_outer_mm_ + 1, 0.0),
-        options_.supersampling,
-        [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-          const double r = (p - centre_mm_).norm();
-          bool in = r >= ring_inner_mm_ && r <= ring_outer_mm_;
-          for (const FixedAnchor& a : m.fixed_anchors) {
-            const Eigen::Vector2d out =
-                centre_mm_ +
-                (a.position_mm - centre_mm_).normalized() * ring_inner_mm_;
-            in = in || DistanceToSegment(p, a.position_mm, out) <= 12.5;
-          }
-          *colour = kRingColor;
-          return in;
-        },
-        &background_);
+  const Eigen::Matrix3d on_ring = camera_.NormalizedFromPlane(0.0).inverse();
+  Composite(
+      *pixels_, on_ring,
+      CircleBox(camera_, centre_mm_, ring_outer_mm_ + 1, 0.0),
+      options_.supersampling,
+      [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+        const double r = (p - centre_mm_).norm();
+        bool in = r >= ring_inner_mm_ && r <= ring_outer_mm_;
+        for (const FixedAnchor& a : m.fixed_anchors) {
+          const Eigen::Vector2d out =
+              centre_mm_ +
+              (a.position_mm - centre_mm_).normalized() * ring_inner_mm_;
+          in = in || DistanceToSegment(p, a.position_mm, out) <= 12.5;
+        }
+        *colour = kRingColor;
+        return in;
+      },
+      &background_);
+}
 
-  background_without_tag_ = background_.clone();
-  if (plan_.calibration.tag) {
-    // The tag from libapriltag's own bitmap: total_width cells including the
-    // white quiet zone; size_mm spans the black border (width_at_border).
-    apriltag_family_t* family = tag36h11_create();
-    image_u8_t* bitmap = apriltag_to_image(family, plan_.calibration.tag->id);
-    const double cell =
-        plan_.calibration.tag->size_mm / family->width_at_border;
-    const int cells = family->total_width;
-    const double half = cell * cells / 2.0;
-    Composite(
-        px, on_ring, box(tag_center_mm_, half * std::sqrt(2.0), 0.0),
-        options_.supersampling,
-        [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-          const Eigen::Vector2d d = p - tag_center_mm_;
-          const double col = std::floor((d.x() + half) / cell);
-          const double row = std::floor((half - d.y()) / cell);
-          if (col < 0 || row < 0 || col >= cells || row >= cells) return false;
-          const uint8_t v = bitmap->buf[static_cast<int>(row) * bitmap->stride +
-                                        static_cast<int>(col)];
-          *colour = v > 127 ? kPaperColor : kInkColor;
-          return true;
-        },
-        &background_);
-    // Debian's libapriltag does not export image_u8_destroy; the image and its
-    // buffer are both calloc'd by image_u8_create_stride.
-    free(bitmap->buf);
-    free(bitmap);
-    tag36h11_destroy(family);
-  }
+// The tag from libapriltag's own bitmap: total_width cells including the
+// white quiet zone; size_mm spans the black border (width_at_border).
+void SceneRenderer::DrawTag() {
+  const Eigen::Matrix3d on_ring = camera_.NormalizedFromPlane(0.0).inverse();
+  apriltag_family_t* family = tag36h11_create();
+  image_u8_t* bitmap = apriltag_to_image(family, plan_.calibration.tag->id);
+  const double cell = plan_.calibration.tag->size_mm / family->width_at_border;
+  const int cells = family->total_width;
+  const double half = cell * cells / 2.0;
+  Composite(
+      *pixels_, on_ring,
+      CircleBox(camera_, tag_center_mm_, half * std::sqrt(2.0), 0.0),
+      options_.supersampling,
+      [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+        const Eigen::Vector2d d = p - tag_center_mm_;
+        const double col = std::floor((d.x() + half) / cell);
+        const double row = std::floor((half - d.y()) / cell);
+        if (col < 0 || row < 0 || col >= cells || row >= cells) return false;
+        const uint8_t v = bitmap->buf[static_cast<int>(row) * bitmap->stride +
+                                      static_cast<int>(col)];
+        *colour = v > 127 ? kPaperColor : kInkColor;
+        return true;
+      },
+      &background_);
+  // Debian's libapriltag does not export image_u8_destroy; the image and its
+  // buffer are both calloc'd by image_u8_create_stride.
+  free(bitmap->buf);
+  free(bitmap);
+  tag36h11_destroy(family);
+}
 
+void SceneRenderer::MakeGain() {
+  const CameraIntrinsics& k = options_.intrinsics;
   // Lighting: a linear gradient times cos^4-like vignetting.
   gain_.create(k.height_px, k.width_px, CV_32FC1);
   const double half_diagonal = std::hypot(k.width_px, k.height_px) / 2.0;
@@ -359,128 +377,130 @@ std::vector<Eigen::Vector2d> SceneRenderer::TagCorners(
   return corners;
 }
 
+Eigen::Vector2d SceneRenderer::HeadAt(const Eigen::VectorXd& displacements_mm,
+                                      int head) const {
+  return plan_.mechanism.heads[head].rest_mm +
+         displacements_mm.segment<2>(2 * head);
+}
+
 void SceneRenderer::DrawMoving(const Eigen::VectorXd& displacements_mm,
                                cv::Mat* image) const {
-  const Mechanism& m = plan_.mechanism;
-  const PixelGrid& px = *pixels_;
-  const int ss = options_.supersampling;
-  const auto head_at = [&](int h) {
-    return Eigen::Vector2d(m.heads[h].rest_mm +
-                           displacements_mm.segment<2>(2 * h));
-  };
-  const auto box = [&](const std::vector<Eigen::Vector2d>& points,
-                       double height) {
-    return ImageBox(camera_, points, height);
-  };
+  DrawBellows(displacements_mm, image);
+  for (const MarkerSpec& marker : plan_.markers) {
+    DrawHead(marker, HeadAt(displacements_mm, marker.head), image);
+  }
+  if (options_.red_tube) DrawTube(image);
+}
 
-  // Bellows, cosmetic: a 22 mm wide band from anchor to head, mid-height.
-  const double bellows_height = dot_height_ / 2.0;
+// Bellows, cosmetic: a 22 mm wide band from anchor to head, mid-height.
+void SceneRenderer::DrawBellows(const Eigen::VectorXd& displacements_mm,
+                                cv::Mat* image) const {
+  const Mechanism& m = plan_.mechanism;
+  const double height = dot_height_ / 2.0;
   const Eigen::Matrix3d on_bellows =
-      camera_.NormalizedFromPlane(bellows_height).inverse();
+      camera_.NormalizedFromPlane(height).inverse();
   for (const Actuator& a : m.actuators) {
     const Eigen::Vector2d from = a.anchor.kind == AnchorRef::Kind::kHead
-                                     ? head_at(a.anchor.index)
+                                     ? HeadAt(displacements_mm, a.anchor.index)
                                      : m.AnchorRestPosition(a);
-    const Eigen::Vector2d to = head_at(a.head);
+    const Eigen::Vector2d to = HeadAt(displacements_mm, a.head);
     const Eigen::Vector2d side =
         Eigen::Vector2d(-(to - from).y(), (to - from).x()).normalized() * 11.0;
     Composite(
-        px, on_bellows,
-        box({from + side, from - side, to + side, to - side}, bellows_height),
-        ss,
+        *pixels_, on_bellows,
+        ImageBox(camera_, {from + side, from - side, to + side, to - side},
+                 height),
+        options_.supersampling,
         [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
           *colour = kBellowsColor;
           return DistanceToSegment(p, from, to) <= 11.0;
         },
         image);
   }
+}
 
-  // Heads: triangles with an edge facing each of three attachments (thesis
-  // figs. 4.2, 4.10), else discs; dots and glints on their top face.
-  const Eigen::Matrix3d on_top =
-      camera_.NormalizedFromPlane(dot_height_).inverse();
+// A disc of `radius` [mm] at `centre` on the heads' top face, drawn within
+// the square of half side `box_half_mm` around it.
+void SceneRenderer::DrawDisc(const Eigen::Vector2d& centre, double radius,
+                             double box_half_mm, const cv::Vec3f& bgr,
+                             cv::Mat* image) const {
+  const Eigen::Vector2d corner(box_half_mm, box_half_mm);
+  Composite(
+      *pixels_, camera_.NormalizedFromPlane(dot_height_).inverse(),
+      ImageBox(camera_, {centre + corner, centre - corner}, dot_height_),
+      options_.supersampling,
+      [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+        *colour = bgr;
+        return (p - centre).squaredNorm() <= radius * radius;
+      },
+      image);
+}
+
+// A head: a triangle with an edge facing each of three attachments (thesis
+// figs. 4.2, 4.10), else a disc; its dots and glint on its top face.
+void SceneRenderer::DrawHead(const MarkerSpec& marker,
+                             const Eigen::Vector2d& centre,
+                             cv::Mat* image) const {
   const double side = plan_.scene.head_side_mm;
-  for (const MarkerSpec& marker : plan_.markers) {
-    const Eigen::Vector2d centre = head_at(marker.head);
-    const std::vector<Eigen::Vector2d> attachments =
-        AttachmentDirections(m, marker.head);
-    std::vector<Eigen::Vector2d> triangle;
-    if (attachments.size() == 3) {
-      for (const Eigen::Vector2d& d : attachments) {
-        triangle.push_back(centre - d * side / std::sqrt(3.0));
-      }
-      const Eigen::Vector2d e1 = triangle[1] - triangle[0],
-                            e2 = triangle[2] - triangle[0];
-      if (e1.x() * e2.y() - e1.y() * e2.x() < 0)
-        std::swap(triangle[1], triangle[2]);
+  const std::vector<Eigen::Vector2d> attachments =
+      AttachmentDirections(plan_.mechanism, marker.head);
+  std::vector<Eigen::Vector2d> triangle;
+  if (attachments.size() == 3) {
+    for (const Eigen::Vector2d& d : attachments) {
+      triangle.push_back(centre - d * side / std::sqrt(3.0));
     }
-    const double radius = side / std::sqrt(3.0);
+    const Eigen::Vector2d e1 = triangle[1] - triangle[0],
+                          e2 = triangle[2] - triangle[0];
+    if (e1.x() * e2.y() - e1.y() * e2.x() < 0)
+      std::swap(triangle[1], triangle[2]);
+  }
+  const double radius = side / std::sqrt(3.0);
+  Composite(
+      *pixels_, camera_.NormalizedFromPlane(dot_height_).inverse(),
+      ImageBox(camera_,
+               {centre + Eigen::Vector2d(radius, radius),
+                centre - Eigen::Vector2d(radius, radius)},
+               dot_height_),
+      options_.supersampling,
+      [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
+        *colour = kHeadColor;
+        return triangle.empty() ? (p - centre).norm() <= side / 2.0
+                                : InPolygon(triangle, p);
+      },
+      image);
+  const cv::Vec3f dot_color = MarkerColorBgr(marker.color);
+  for (const Eigen::Vector2d& offset : marker.layout_mm) {
+    const double r = marker.dot_diameter_mm / 2.0;
+    DrawDisc(centre + offset, r, r, dot_color, image);
+  }
+  if (options_.glint) {
+    DrawDisc(centre + Eigen::Vector2d(0.8, -0.6), 1.3, 2.0, kGlintColor, image);
+  }
+}
+
+// A 5 mm red air tube across the lower left of the frame, above the scene.
+void SceneRenderer::DrawTube(cv::Mat* image) const {
+  const double height = dot_height_ + 10.0;
+  const Eigen::Matrix3d on_tube = camera_.NormalizedFromPlane(height).inverse();
+  const std::vector<Eigen::Vector2d> path = {
+      centre_mm_ + Eigen::Vector2d(-200, -15),
+      centre_mm_ + Eigen::Vector2d(-120, -45),
+      centre_mm_ + Eigen::Vector2d(-85, -75),
+      centre_mm_ + Eigen::Vector2d(-70, -140)};
+  for (size_t i = 0; i + 1 < path.size(); ++i) {
+    const Eigen::Vector2d a = path[i], b = path[i + 1];
     Composite(
-        px, on_top,
-        box({centre + Eigen::Vector2d(radius, radius),
-             centre - Eigen::Vector2d(radius, radius)},
-            dot_height_),
-        ss,
+        *pixels_, on_tube,
+        ImageBox(camera_,
+                 {a + Eigen::Vector2d(3, 3), a - Eigen::Vector2d(3, 3),
+                  b + Eigen::Vector2d(3, 3), b - Eigen::Vector2d(3, 3)},
+                 height),
+        options_.supersampling,
         [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-          *colour = kHeadColor;
-          return triangle.empty() ? (p - centre).norm() <= side / 2.0
-                                  : InPolygon(triangle, p);
+          *colour = MarkerColorBgr("red");
+          return DistanceToSegment(p, a, b) <= 2.5;
         },
         image);
-    const cv::Vec3f dot_color = MarkerColorBgr(marker.color);
-    const double r = marker.dot_diameter_mm / 2.0;
-    for (const Eigen::Vector2d& offset : marker.layout_mm) {
-      const Eigen::Vector2d c = centre + offset;
-      Composite(
-          px, on_top,
-          box({c + Eigen::Vector2d(r, r), c - Eigen::Vector2d(r, r)},
-              dot_height_),
-          ss,
-          [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-            *colour = dot_color;
-            return (p - c).squaredNorm() <= r * r;
-          },
-          image);
-    }
-    if (options_.glint) {
-      const Eigen::Vector2d g = centre + Eigen::Vector2d(0.8, -0.6);
-      Composite(
-          px, on_top,
-          box({g + Eigen::Vector2d(2, 2), g - Eigen::Vector2d(2, 2)},
-              dot_height_),
-          ss,
-          [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-            *colour = kGlintColor;
-            return (p - g).norm() <= 1.3;
-          },
-          image);
-    }
-  }
-
-  if (options_.red_tube) {
-    // A 5 mm red air tube across the lower left of the frame, above the scene.
-    const double height = dot_height_ + 10.0;
-    const Eigen::Matrix3d on_tube =
-        camera_.NormalizedFromPlane(height).inverse();
-    const std::vector<Eigen::Vector2d> path = {
-        centre_mm_ + Eigen::Vector2d(-200, -15),
-        centre_mm_ + Eigen::Vector2d(-120, -45),
-        centre_mm_ + Eigen::Vector2d(-85, -75),
-        centre_mm_ + Eigen::Vector2d(-70, -140)};
-    for (size_t i = 0; i + 1 < path.size(); ++i) {
-      const Eigen::Vector2d a = path[i], b = path[i + 1];
-      Composite(
-          px, on_tube,
-          box({a + Eigen::Vector2d(3, 3), a - Eigen::Vector2d(3, 3),
-               b + Eigen::Vector2d(3, 3), b - Eigen::Vector2d(3, 3)},
-              height),
-          ss,
-          [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-            *colour = MarkerColorBgr("red");
-            return DistanceToSegment(p, a, b) <= 2.5;
-          },
-          image);
-    }
   }
 }
 

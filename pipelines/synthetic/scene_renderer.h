@@ -96,14 +96,29 @@ class SceneRenderer {
   double dot_plane_height_mm() const { return dot_height_; }
 
  private:
+  // The static layers (background_, background_without_tag_) and gain_.
   void DrawStatic();
+  void DrawTable();
+  void DrawRing();
+  void DrawTag();
+  void MakeGain();
   // A world point's pixel in the camera after `motion`.
   Eigen::Vector2d Project(const Eigen::Vector3d& point_in_world,
                           const CameraMotion& motion) const;
   // `linear` as the camera after `motion` sees it.
   cv::Mat Moved(const cv::Mat& linear, const CameraMotion& motion) const;
+  // The moving layers at the heads' displacements, onto `image`.
   void DrawMoving(const Eigen::VectorXd& displacements_mm,
                   cv::Mat* image) const;
+  Eigen::Vector2d HeadAt(const Eigen::VectorXd& displacements_mm,
+                         int head) const;
+  void DrawBellows(const Eigen::VectorXd& displacements_mm,
+                   cv::Mat* image) const;
+  void DrawHead(const MarkerSpec& marker, const Eigen::Vector2d& centre,
+                cv::Mat* image) const;
+  void DrawDisc(const Eigen::Vector2d& centre, double radius,
+                double box_half_mm, const cv::Vec3f& bgr, cv::Mat* image) const;
+  void DrawTube(cv::Mat* image) const;
 
   TestPlan plan_;
   RenderOptions options_;

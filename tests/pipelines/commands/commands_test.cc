@@ -128,7 +128,7 @@ TEST_F(CommandsTest, PredictRejectsBadSelections) {
   options.model.model = "pressurized-spring";
   options.model.variant = "full-trig";
   EXPECT_THROW(RunPredict(options, out), InputError);
-  options.model.variant.clear();
+  options.model.variant.reset();
   options.pressures = "1,2";
   EXPECT_THROW(RunPredict(options, out), InputError);
 }

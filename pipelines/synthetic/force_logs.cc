@@ -1,0 +1,163 @@
+#include "pipelines/synthetic/force_logs.h"
+
+#include <fmt/compile.h>
+#include <fmt/format.h>
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <iterator>
+#include <vector>
+
+#include "model/units.h"
+#include "pipelines/characterisation/force_log_manifest.h"
+#include "util/atomic_file.h"
+#include "util/check.h"
+#include "util/input_error.h"
+#include "util/parallel_tasks.h"
+#include "util/progress.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kHeader = "time_s,{},fx_n,fy_n,fz_n,tx_nm,ty_nm,tz_nm\n";
+
+// Appends one row in the sensor's export format (micro-second times, the
+// pressure sensor's and the Mini40's resolution) after `prefix` (a combined
+// log's configuration columns, or nothing).
+void AppendRow(std::string_view prefix, const SyntheticRow& row,
+               double units_per_mpa, std::string* out) {
+  out->append(prefix);
+  fmt::format_to(std::back_inserter(*out),
+                 FMT_COMPILE("{:.6f},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},{:.5f},"
+                             "{:.5f}\n"),
+                 row.time_s, row.pressure_mpa * units_per_mpa, row.force_n[0],
+                 row.force_n[1], row.force_n[2], row.torque_nm[0],
+                 row.torque_nm[1], row.torque_nm[2]);
+}
+
+// The manifest of the tests, each in its own file.
+ForceLogManifest Manifest(const std::vector<SyntheticTest>& tests,
+                          const std::string& pressure_unit) {
+  ForceLogManifest manifest;
+  manifest.columns.pressure = "pressure_" + pressure_unit;
+  for (const SyntheticTest& test : tests) {
+    ForceTest& entry = manifest.tests.emplace_back();
+    entry.id = test.id;
+    entry.nominal_delta_length_mm = test.nominal_delta_length_mm;
+    entry.nominal_theta_rad = test.nominal_theta_rad;
+    entry.measured_delta_length_mm = test.delta_length_mm;
+    entry.measured_theta_rad = test.theta_rad;
+    manifest.files.push_back(test.id + ".csv");
+  }
+  return manifest;
+}
+
+// Test t's rows after `prefix` into `text`.
+using GenerateTest =
+    std::function<void(int t, std::string_view prefix, std::string* text)>;
+
+void WriteCombined(const fs::path& path,
+                   const std::vector<SyntheticTest>& tests,
+                   const std::string& header, const GenerateTest& generate,
+                   const std::function<void()>& poll) {
+  AtomicFileWriter writer(path.string());
+  writer.Append(
+      "test_id,delta_length_mm,theta_deg,measured_delta_length_mm,"
+      "measured_theta_deg," +
+      header);
+  for (int t = 0; t < static_cast<int>(tests.size()); ++t) {
+    const std::string prefix = fmt::format(
+        "{},{:.6g},{:.6g},{:.4f},{:.4f},", tests[t].id,
+        tests[t].nominal_delta_length_mm, RadToDeg(tests[t].nominal_theta_rad),
+        tests[t].delta_length_mm, RadToDeg(tests[t].theta_rad));
+    std::string text;
+    generate(t, prefix, &text);
+    writer.Append(text);
+    poll();
+  }
+  writer.Commit();
+}
+
+std::string ManifestComment(const SyntheticForceLogsOptions& options,
+                            size_t num_tests) {
+  const ActuatorConstants& c = options.synthetic.model.constants;
+  return fmt::format(
+      "# Synthetic characterisation logs (softbench synth-forces): {} tests "
+      "at {} Hz, seed {}.\n# Truth: {} with A_z {}, W_y {}, k_s {}, k_theta "
+      "{}.\n",
+      num_tests, options.synthetic.sample_rate_hz, options.synthetic.seed,
+      options.model_name, c.axial_area_mm2, c.shear_area_factor_mm2_per_rad,
+      c.linear_stiffness_n_per_mm, c.torsional_factor_n_per_rad);
+}
+
+}  // namespace
+
+std::optional<std::string> SyntheticForceLogsOptions::Check() const {
+  if (auto problem = synthetic.Check()) return "synthetic: " + *problem;
+  if (!MpaPerPressureUnit(pressure_unit)) {
+    return "pressure_unit: '" + pressure_unit + "' is not " +
+           PressureUnitNames();
+  }
+  if (threads < 0) return "threads: must be >= 0";
+  return std::nullopt;
+}
+
+SyntheticForceLogs WriteSyntheticForceLogs(
+    const std::string& directory_name,
+    const SyntheticForceLogsOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  std::error_code error;
+  fs::create_directories(directory_name, error);
+  if (error) {
+    throw InputError(directory_name + ": cannot create (" + error.message() +
+                     ")");
+  }
+  const fs::path directory(directory_name);
+  const std::vector<SyntheticTest> tests = SyntheticTests(options.synthetic);
+  ForceLogManifest manifest = Manifest(tests, options.pressure_unit);
+  const std::string header = fmt::format(kHeader, manifest.columns.pressure);
+  SyntheticForceLogs written;
+  written.tests = static_cast<int>(tests.size());
+  for (const SyntheticTest& test : tests) written.rows += test.rows;
+
+  const double units_per_mpa = 1.0 / *MpaPerPressureUnit(options.pressure_unit);
+  ProgressBar progress("synth-forces", written.rows, options.progress);
+  std::atomic<int64_t> rows_done{0};
+  const GenerateTest generate = [&](int t, std::string_view prefix,
+                                    std::string* text) {
+    GenerateSyntheticTest(options.synthetic, tests[t], t,
+                          [&](const SyntheticRow& row) {
+                            AppendRow(prefix, row, units_per_mpa, text);
+                          });
+    rows_done += tests[t].rows;
+  };
+  const auto poll = [&] { progress.Update(rows_done); };
+  if (options.combined) {
+    manifest.combined_path = "forces.csv";
+    WriteCombined(directory / manifest.combined_path, tests, header, generate,
+                  poll);
+  } else {
+    // Tests in parallel, one file each (each test has its own random stream,
+    // so the files do not depend on the thread count).
+    RunParallelTasks(
+        written.tests, options.threads,
+        [&](int t) {
+          std::string text = header;
+          generate(t, "", &text);
+          WriteFileAtomically((directory / manifest.files[t]).string(), text);
+        },
+        poll);
+  }
+  progress.Finish();
+  written.manifest_path = (directory / "manifest.yaml").string();
+  WriteFileAtomically(
+      written.manifest_path,
+      ForceLogManifestYaml(manifest, options.pressure_unit,
+                           ManifestComment(options, tests.size())));
+  return written;
+}
+
+}  // namespace softbench

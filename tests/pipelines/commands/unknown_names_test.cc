@@ -1,0 +1,78 @@
+// Every named choice on the command line, given a name it does not know
+// (empty included), answers through `main` with one line that lists the
+// known names, and exit code 2 (docs/error-policy.md).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/pipelines/scratch_directory.h"
+
+namespace softbench {
+namespace {
+
+struct Case {
+  std::string arguments;  // after `softbench`
+  std::string expected;   // the whole message after "softbench: error: "
+};
+
+class UnknownNamesTest : public ScratchDirectoryTest {
+ protected:
+  // Runs the program; returns its exit code and stderr.
+  int Run(const std::string& arguments, std::string* stderr_text) const {
+    const std::string err = Path("stderr.txt");
+    const std::string command = std::string(SOFTBENCH_BINARY) + " " +
+                                arguments + " > " + Path("stdout.txt") +
+                                " 2> " + err;
+    const int status = std::system(command.c_str());
+    std::ifstream stream(err);
+    std::stringstream text;
+    text << stream.rdbuf();
+    *stderr_text = text.str();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+};
+
+TEST_F(UnknownNamesTest, EachGetsOneLineListingTheKnownNames) {
+  const std::string samples = std::string(SOFTBENCH_SOURCE_DIR) + "/samples";
+  const std::string variants = "use small-angle, full-trig or variable-arm";
+  const std::vector<Case> cases = {
+      {"fit logs.yaml --variant ''",
+       "--variant: '' is not a variant; " + variants},
+      {"fit logs.yaml --variant exact",
+       "--variant: 'exact' is not a variant; " + variants},
+      {"predict --pressures 1,1,1 --variant ''",
+       "--variant: '' is not a variant; " + variants},
+      {"predict --pressures 1,1,1 --model spring",
+       "--model: 'spring' is not a model; use axial-shear or "
+       "pressurized-spring"},
+      {"predict --pressures 1,1,1 --pressure-unit bar",
+       "--pressure-unit: 'bar' is not a unit; use psi, kpa or mpa"},
+      {"predict --pressures 1,1,1 --mechanism ''",
+       "mechanism '': no such mechanism; give 'delta', 'floating', or the "
+       "path of a mechanism YAML file"},
+      {"workspace --max 6 --step 3 --pressure-unit ''",
+       "--pressure-unit: '' is not a unit; use psi, kpa or mpa"},
+      {"synth-forces --output " + Path("logs") + " --variant exact",
+       "--variant: 'exact' is not a variant; " + variants},
+      {"synth-forces --output " + Path("logs") + " --pressure-unit bar",
+       "--pressure-unit: 'bar' is not a unit; use psi, kpa or mpa"},
+      {"tune " + samples + "/delta/delta.mp4 --color purple",
+       "--color: 'purple' is not red, green, blue, yellow or magenta"},
+      {"validate " + samples + "/delta/delta.mp4 --plan " + samples +
+           "/delta/plan.yaml --out " + Path("report") + " --variant ''",
+       "--variant: '' is not a variant; " + variants},
+  };
+  for (const Case& c : cases) {
+    std::string err;
+    EXPECT_EQ(Run(c.arguments, &err), 2) << c.arguments << "\n" << err;
+    EXPECT_EQ(err, "softbench: error: " + c.expected + "\n") << c.arguments;
+  }
+}
+
+}  // namespace
+}  // namespace softbench
