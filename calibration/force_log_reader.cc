@@ -62,15 +62,15 @@ class LogRowParser {
     const std::optional<double> axial = Number(axial_, "axial force");
     const std::optional<double> shear = Number(shear_, "shear force");
     if (!time || !pressure || !axial || !shear) return Row::kSkipped;
-    pressure_mpa = *pressure * columns_.mpa_per_pressure_unit;
+    pressure_mpa = *pressure * columns_.mpa_per_unit;
     axial_n = columns_.axial_sign * *axial;
     shear_n = columns_.shear_sign * *shear;
     if (pressure_mpa < options_.min_pressure_mpa ||
         pressure_mpa > options_.max_pressure_mpa) {
       return Skip(fmt::format(
           "pressure {} is outside {} .. {} in the log's unit", *pressure,
-          options_.min_pressure_mpa / columns_.mpa_per_pressure_unit,
-          options_.max_pressure_mpa / columns_.mpa_per_pressure_unit));
+          options_.min_pressure_mpa / columns_.mpa_per_unit,
+          options_.max_pressure_mpa / columns_.mpa_per_unit));
     }
     if (std::abs(axial_n) > options_.max_abs_force_n ||
         std::abs(shear_n) > options_.max_abs_force_n) {

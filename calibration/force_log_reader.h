@@ -17,7 +17,7 @@ struct ForceLogColumns {
   std::string time = "time_s";
   std::string pressure = "pressure_kpa";
   // Multiply a pressure in the log's unit by this to get MPa.
-  double mpa_per_pressure_unit = 0.001;
+  double mpa_per_unit = 0.001;
   // The sensor column along the actuator's local +z (axial) and +y (shear),
   // and the sign that turns the sensor's reading into the force the actuator
   // exerts on its head.

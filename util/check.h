@@ -21,17 +21,18 @@ namespace softbench::internal {
 // statement ends.
 class CheckFailure {
  public:
-  CheckFailure(const char* file, int line, const char* condition) {
+  [[gnu::cold, gnu::noinline]] CheckFailure(const char* file, int line,
+                                            const char* condition) {
     stream_ << "softbench: internal error: " << file << ":" << line
             << ": check failed: " << condition << ": ";
   }
   CheckFailure(const CheckFailure&) = delete;
   CheckFailure& operator=(const CheckFailure&) = delete;
-  [[noreturn]] ~CheckFailure() {
+  [[noreturn, gnu::cold, gnu::noinline]] ~CheckFailure() {
     std::cerr << stream_.str() << std::endl;
     std::abort();
   }
-  std::ostream& stream() { return stream_; }
+  [[gnu::cold]] std::ostream& stream() { return stream_; }
 
  private:
   std::ostringstream stream_;

@@ -122,7 +122,7 @@ FitRun RunFitAnalysis(const FitAnalysisOptions& options) {
   FitRun run;
   run.input_path = options.input_path;
   const ForceLogManifest manifest = LoadInput(options);
-  run.pressure_unit_mpa = manifest.columns.mpa_per_pressure_unit;
+  run.mpa_per_unit = manifest.columns.mpa_per_unit;
   run.pressure_unit = manifest.columns.pressure.substr(
       manifest.columns.pressure.rfind('_') + 1);
   const std::vector<ForceRow> rows = ReadLogs(options, manifest, &run);

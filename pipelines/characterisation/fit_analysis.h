@@ -43,7 +43,7 @@ struct FitRun {
   std::vector<FitModel> models;
   std::vector<ForceFitSummary> fits;  // one per model, same order
   std::vector<ConfigurationAnalysis> configurations;
-  double pressure_unit_mpa = 0.001;  // the log's pressure unit, for tables
+  double mpa_per_unit = 0.001;  // the log's pressure unit, for tables
   std::string pressure_unit = "kpa";
   double seconds = 0.0;
   // For people: rows skipped while reading (with examples).

@@ -35,7 +35,7 @@ ForceLogColumns ParseColumns(const YamlReader& reader, const YAML::Node& root) {
   const YAML::Node unit_node = reader.Require(root, "pressure_unit");
   const std::string unit = reader.String(unit_node, "pressure_unit");
   if (const std::optional<double> mpa = MpaPerPressureUnit(unit)) {
-    columns.mpa_per_pressure_unit = *mpa;
+    columns.mpa_per_unit = *mpa;
   } else {
     reader.Fail(unit_node, "pressure_unit",
                 "'" + unit + "' is not a unit; use " + PressureUnitNames());

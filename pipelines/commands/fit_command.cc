@@ -111,7 +111,7 @@ FitAnalysisOptions FitAnalysisOptionsFromFlags(const FitCommandOptions& flags) {
   options.threads = flags.threads;
   options.progress = !flags.quiet;
   ForceLogColumns& columns = options.combined_columns;
-  columns.mpa_per_pressure_unit = MpaPerPressureUnitFlag(flags.pressure_unit);
+  columns.mpa_per_unit = MpaPerPressureUnitFlag(flags.pressure_unit);
   columns.pressure = "pressure_" + flags.pressure_unit;
   ParseSignedColumn(flags.axial, "--axial", &columns.axial,
                     &columns.axial_sign);

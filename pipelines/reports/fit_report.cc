@@ -151,7 +151,7 @@ std::string TestsCsv(const FitRun& run) {
         test.nominal_delta_length_mm, RadToDeg(test.nominal_theta_rad),
         test.delta_length_mm(), RadToDeg(test.theta_rad()),
         test.statistics.All().count, test.statistics.ZeroPressure().count,
-        test.statistics.max_pressure_mpa / run.pressure_unit_mpa);
+        test.statistics.max_pressure_mpa / run.mpa_per_unit);
     for (const ForceFitSummary& fit : run.fits) {
       out += fit.ok ? fmt::format(",{:.5f},{:.5f}", fit.test_rmse_n[t][0],
                                   fit.test_rmse_n[t][1])
@@ -194,7 +194,7 @@ std::string PressureBinsCsv(const FitRun& run,
     const double n = static_cast<double>(m.count);
     out += fmt::format("{},{},{:.5f},{},{:.5f},{:.5f},{:.5f},{:.5f}\n",
                        run.tests[bin.test].id, bin.phase == 0 ? "up" : "down",
-                       m.mean[0] / run.pressure_unit_mpa, m.count, m.mean[1],
+                       m.mean[0] / run.mpa_per_unit, m.count, m.mean[1],
                        m.mean[2], std::sqrt(m.comoment(1, 1) / n),
                        std::sqrt(m.comoment(2, 2) / n));
   }
@@ -261,7 +261,7 @@ json ForcePressureChart(const FitRun& run, const std::vector<BinRow>& bins,
     values.push_back(
         {{"configuration", TestConfigurationName(test)},
          {"series", bin.phase == 0 ? "measured, up" : "measured, down"},
-         {"pressure", bin.moments.mean[0] / run.pressure_unit_mpa},
+         {"pressure", bin.moments.mean[0] / run.mpa_per_unit},
          {"force", bin.moments.mean[1 + direction]}});
   }
   for (const ConfigurationAnalysis& c : run.configurations) {
@@ -277,7 +277,7 @@ json ForcePressureChart(const FitRun& run, const std::vector<BinRow>& bins,
             {{"configuration", ConfigurationName(c.nominal_delta_length_mm,
                                                  c.nominal_theta_rad)},
              {"series", run.models[m].name},
-             {"pressure", p / run.pressure_unit_mpa},
+             {"pressure", p / run.mpa_per_unit},
              {"force", ModelForce(model, p, c.delta_length_mm,
                                   c.theta_rad)[direction]}});
       }
@@ -574,7 +574,7 @@ json ResidualChart(const FitRun& run, const std::vector<BinRow>& bins) {
             {{"model", run.models[m].name},
              {"direction", kDirectionNames[d]},
              {"configuration", key.first},
-             {"pressure", pool.pressure / pool.rows / run.pressure_unit_mpa},
+             {"pressure", pool.pressure / pool.rows / run.mpa_per_unit},
              {"residual", mean},
              {"rows", pool.rows},
              {"sd", std::sqrt(std::max(

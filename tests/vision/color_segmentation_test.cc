@@ -74,8 +74,18 @@ TEST(LearnHsvRange, HoldsTheDotsAndWrapsForRed) {
   EXPECT_TRUE(learned.range.Wraps());
   EXPECT_GE(learned.range.hue_low, 160);
   EXPECT_LE(learned.range.hue_high, 20);
+  // A valid range (formats/dot_colors.h's CheckHsvBounds, which vision/
+  // cannot use): hue 0-179, 0 <= low <= high <= 255 for the others.
+  for (const int hue : {learned.range.hue_low, learned.range.hue_high}) {
+    EXPECT_GE(hue, 0);
+    EXPECT_LE(hue, 179);
+  }
+  EXPECT_GE(learned.range.saturation_low, 0);
   EXPECT_LE(learned.range.saturation_low, learned.range.saturation_high);
+  EXPECT_LE(learned.range.saturation_high, 255);
+  EXPECT_GE(learned.range.value_low, 0);
   EXPECT_LE(learned.range.value_low, learned.range.value_high);
+  EXPECT_LE(learned.range.value_high, 255);
 }
 
 }  // namespace
