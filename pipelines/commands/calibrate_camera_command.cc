@@ -2,45 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "calibration/camera_calibration.h"
+#include "pipelines/measurement/board_views.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
-#include "util/progress.h"
-#include "vision/video_reader.h"
 
 namespace softbench {
-namespace {
-
-namespace fs = std::filesystem;
-
-struct Views {
-  std::vector<std::vector<cv::Point2f>> corners;
-  cv::Size size;
-  int looked_at = 0;
-};
-
-void AddView(const cv::Mat& gray, const std::string& where,
-             const BoardOptions& board, Views* views) {
-  if (views->size.empty()) views->size = gray.size();
-  if (gray.size() != views->size) {
-    throw InputError(fmt::format(
-        "{}: {}x{} differs from the first view's {}x{}; calibrate one "
-        "resolution at a time",
-        where, gray.cols, gray.rows, views->size.width, views->size.height));
-  }
-  ++views->looked_at;
-  std::vector<cv::Point2f> corners = FindBoardCorners(gray, board);
-  if (!corners.empty()) views->corners.push_back(std::move(corners));
-}
-
-}  // namespace
 
 void AddCalibrateCameraCommand(CLI::App* c,
                                CalibrateCameraCommandOptions* options) {
@@ -64,57 +33,6 @@ void AddCalibrateCameraCommand(CLI::App* c,
       ->required();
 }
 
-namespace {
-
-// The boards of every --every-s of the video.
-void ViewsFromVideo(const CalibrateCameraCommandOptions& options,
-                    const BoardOptions& board, Views* views) {
-  const std::string& source = options.video_path;
-  VideoReaderOptions reader_options;
-  reader_options.want_bgr = false;
-  VideoReader reader(options.video_path, reader_options);
-  ProgressBar progress("boards", reader.info().frame_count, !options.quiet);
-  VideoFrame frame;
-  double next_s = 0.0;
-  while (reader.Read(&frame)) {
-    progress.Update(frame.index + 1);
-    if (frame.time_s + 1e-9 < next_s) continue;
-    next_s = frame.time_s + options.every_s;
-    AddView(frame.luma, fmt::format("{} at t = {:.3f} s", source, frame.time_s),
-            board, views);
-  }
-  progress.Finish();
-}
-
-// The boards of every PNG or JPEG image in --images, in name order.
-void ViewsFromImages(const CalibrateCameraCommandOptions& options,
-                     const BoardOptions& board, Views* views) {
-  std::error_code error;
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(options.images_dir, error)) {
-    std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") {
-      files.push_back(entry.path());
-    }
-  }
-  if (error) {
-    throw InputError("--images: cannot list " + options.images_dir + " (" +
-                     error.message() + ")");
-  }
-  std::sort(files.begin(), files.end());
-  for (const fs::path& file : files) {
-    const cv::Mat gray = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-    if (gray.empty()) {
-      throw InputError(file.string() +
-                       ": not a readable image; remove it or re-export it");
-    }
-    AddView(gray, file.string(), board, views);
-  }
-}
-
-}  // namespace
-
 int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
                        std::ostream& out) {
   CameraCalibrationOptions calibration;
@@ -133,14 +51,16 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
   if (options.video_path.empty() == options.images_dir.empty()) {
     throw InputError("give --video or --images (one of them)");
   }
-  Views views;
+  BoardViewsOptions view_options;
+  view_options.board = calibration.board;
+  view_options.every_s = options.every_s;
+  view_options.progress = !options.quiet;
   const std::string& source =
       options.video_path.empty() ? options.images_dir : options.video_path;
-  if (!options.video_path.empty()) {
-    ViewsFromVideo(options, calibration.board, &views);
-  } else {
-    ViewsFromImages(options, calibration.board, &views);
-  }
+  const BoardViews views =
+      options.video_path.empty()
+          ? BoardViewsFromImages(options.images_dir, view_options)
+          : BoardViewsFromVideo(options.video_path, view_options);
   const CameraCalibrationSummary summary =
       CalibrateCamera(views.corners, views.size, calibration);
   if (!summary.converged) {

@@ -1,0 +1,92 @@
+#include "pipelines/measurement/board_views.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "util/check.h"
+#include "util/input_error.h"
+#include "util/progress.h"
+#include "vision/video_reader.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+void AddView(const cv::Mat& gray, const std::string& where,
+             const BoardOptions& board, BoardViews* views) {
+  if (views->size.empty()) views->size = gray.size();
+  if (gray.size() != views->size) {
+    throw InputError(fmt::format(
+        "{}: {}x{} differs from the first view's {}x{}; calibrate one "
+        "resolution at a time",
+        where, gray.cols, gray.rows, views->size.width, views->size.height));
+  }
+  ++views->looked_at;
+  std::vector<cv::Point2f> corners = FindBoardCorners(gray, board);
+  if (!corners.empty()) views->corners.push_back(std::move(corners));
+}
+
+}  // namespace
+
+std::optional<std::string> BoardViewsOptions::Check() const {
+  if (!(every_s > 0.0)) return "every_s: must be > 0";
+  if (auto problem = board.Check()) return "board: " + *problem;
+  return std::nullopt;
+}
+
+BoardViews BoardViewsFromVideo(const std::string& video_path,
+                               const BoardViewsOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  BoardViews views;
+  const std::string& source = video_path;
+  VideoReaderOptions reader_options;
+  reader_options.want_bgr = false;
+  VideoReader reader(video_path, reader_options);
+  ProgressBar progress("boards", reader.info().frame_count, options.progress);
+  VideoFrame frame;
+  double next_s = 0.0;
+  while (reader.Read(&frame)) {
+    progress.Update(frame.index + 1);
+    if (frame.time_s + 1e-9 < next_s) continue;
+    next_s = frame.time_s + options.every_s;
+    AddView(frame.luma, fmt::format("{} at t = {:.3f} s", source, frame.time_s),
+            options.board, &views);
+  }
+  progress.Finish();
+  return views;
+}
+
+BoardViews BoardViewsFromImages(const std::string& directory,
+                                const BoardViewsOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  BoardViews views;
+  std::error_code error;
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(directory, error)) {
+    std::string ext = entry.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") {
+      files.push_back(entry.path());
+    }
+  }
+  if (error) {
+    throw InputError("--images: cannot list " + directory + " (" +
+                     error.message() + ")");
+  }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    const cv::Mat gray = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) {
+      throw InputError(file.string() +
+                       ": not a readable image; remove it or re-export it");
+    }
+    AddView(gray, file.string(), options.board, &views);
+  }
+  return views;
+}
+
+}  // namespace softbench
