@@ -146,12 +146,12 @@ std::string TestsCsv(const FitRun& run) {
   out += "\n";
   for (size_t t = 0; t < run.tests.size(); ++t) {
     const ForceTest& test = run.tests[t];
-    out += fmt::format(
-        "{},{},{:g},{:g},{:.4f},{:.4f},{},{},{:.4f}", test.id, test.source,
-        test.nominal_delta_length_mm, RadToDeg(test.nominal_theta_rad),
-        test.delta_length_mm(), RadToDeg(test.theta_rad()),
-        test.statistics.All().count, test.statistics.ZeroPressure().count,
-        test.statistics.max_pressure_mpa / run.mpa_per_unit);
+    out += fmt::format("{},{},{:g},{:g},{:.4f},{:.4f},{},{},{:.4f}", test.id,
+                       test.source, test.nominal_delta_length_mm,
+                       RadToDeg(test.nominal_theta_rad), test.delta_length_mm(),
+                       RadToDeg(test.theta_rad()), test.statistics.All().count,
+                       test.statistics.ZeroPressure().count,
+                       test.statistics.max_pressure_mpa / run.mpa_per_unit);
     for (const ForceFitSummary& fit : run.fits) {
       out += fit.ok ? fmt::format(",{:.5f},{:.5f}", fit.test_rmse_n[t][0],
                                   fit.test_rmse_n[t][1])
