@@ -8,6 +8,7 @@
 #include "pipelines/formats/constants_file.h"
 #include "pipelines/reports/fit_report.h"
 #include "util/atomic_file.h"
+#include "util/check.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -20,25 +21,20 @@ FitLoss ParseLoss(const std::string& name) {
   throw InputError("--loss: '" + name + "' is not one of none, huber, cauchy");
 }
 
-// The fitted variant whose constants --output gets; throws InputError for an
-// unknown (or empty) name, listing the known ones.
-const ForceFitSummary& ChosenFit(const FitRun& run, const std::string& name) {
-  for (const ModelVariant& variant : ModelVariants()) {
-    if (variant.name != name) continue;
-    for (const ForceFitSummary& fit : run.fits) {
-      if (fit.model_name == name) return fit;
-    }
-  }
+// --variant names a variant of ModelVariants(); throws InputError listing
+// them for any other name, the empty one included.
+void CheckVariantName(const std::string& name) {
+  if (ForceModelFromVariantName(name, {})) return;
   throw InputError("--variant: '" + name + "' is not a variant; use " +
                    ModelVariantNames());
 }
 
-void CheckVariantName(const std::string& name) {
-  for (const ModelVariant& variant : ModelVariants()) {
-    if (variant.name == name) return;
+// The fit of the checked variant `name` (RunFitAnalysis fits every one).
+const ForceFitSummary& ChosenFit(const FitRun& run, const std::string& name) {
+  for (const ForceFitSummary& fit : run.fits) {
+    if (fit.model_name == name) return fit;
   }
-  throw InputError("--variant: '" + name + "' is not a variant; use " +
-                   ModelVariantNames());
+  SOFTBENCH_CHECK(false) << "no fit of variant '" << name << "'";
 }
 
 }  // namespace
