@@ -12,7 +12,7 @@ softbench=./build/release/softbench
 for rate in 5700 570; do
   dir=build/bench-forces-$rate
   if [[ ! -f $dir/manifest.yaml ]]; then
-    $softbench -q synth-forces --output "$dir" --rate "$rate" --seed 1
+    $softbench -q synth-forces --out "$dir" --rate "$rate" --seed 1
   fi
 done
 full=build/bench-forces-5700/manifest.yaml

@@ -25,7 +25,7 @@ video_4k=$out/phone_4k.mp4
 if [[ ! -f "$video_4k" ]]; then
   echo "rendering $video_4k (about 10 minutes on 2 cores)..."
   ./build/release/softbench --quiet render --plan samples/phone/plan.yaml \
-    --output "$video_4k" --truth "$out/truth_4k.csv" \
+    --out "$video_4k" --truth "$out/truth_4k.csv" \
     --plan-out "$out/phone_4k.plan.yaml" --resolution 4k --codec hevc \
     --preset fast --seed 13 --bitrate-mbps 40 --keyframe-interval-s 1 \
     --camera-drift-px 0.8,-0.6 --camera-tremor-px 0.16 \

@@ -19,7 +19,7 @@ video=$media/delta_10min.mp4
 if [[ ! -f "$video" ]]; then
   echo "rendering $video (about 20 minutes on 2 cores)..."
   ./build/release/softbench --quiet render --plan bench/validate_10min.plan.yaml \
-    --output "$video" --truth "$media/truth.csv" \
+    --out "$video" --truth "$media/truth.csv" \
     --plan-out "$media/rendered.plan.yaml" --resolution 1080p --codec h264 \
     --preset veryfast --seed 21
 fi

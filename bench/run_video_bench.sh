@@ -28,7 +28,7 @@ for codec in h264 hevc; do
     file="$media/${codec}_${resolution}.mp4"
     if [[ ! -f "$file" ]]; then
       ./build/release/softbench --quiet render --plan "$media/plan.yaml" \
-        --output "$file" --truth "$media/truth.csv" --resolution "$resolution" \
+        --out "$file" --truth "$media/truth.csv" --resolution "$resolution" \
         --codec "$codec" --preset veryfast >/dev/null
     fi
     files+=("$file")

@@ -11,6 +11,9 @@
 
 namespace softbench {
 
+// An OpenCV intrinsics file is under a kilobyte.
+constexpr int64_t kMaxIntrinsicsBytes = int64_t{1} << 20;
+
 std::optional<std::string> BoardOptions::Check() const {
   if (corners_x < 3 || corners_y < 3) {
     return "the board needs at least 3 x 3 inner corners";
@@ -79,12 +82,13 @@ CameraCalibrationSummary CalibrateCamera(
         views == 1 ? "" : "s", options.min_views);
     return summary;
   }
-  cv::Mat camera_matrix, distortion;
+  cv::Mat camera_matrix, distortion, intrinsics_std, extrinsics_std,
+      view_errors;
   std::vector<cv::Mat> rvecs, tvecs;
   const int flags = options.fit_k3 ? 0 : cv::CALIB_FIX_K3;
   const double rms = cv::calibrateCamera(
       object_points, image_points, image_size, camera_matrix, distortion, rvecs,
-      tvecs, flags,
+      tvecs, intrinsics_std, extrinsics_std, view_errors, flags,
       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200,
                        1e-12));
   CameraCalibration& c = summary.calibration;
@@ -94,6 +98,14 @@ CameraCalibrationSummary CalibrateCamera(
   for (int i = 0; i < 5; ++i) c.distortion[i] = distortion.at<double>(i);
   c.reprojection_error_px = rms;
   c.views = views;
+  // OpenCV's order: fx fy cx cy k1 k2 p1 p2 k3 ...
+  for (int i = 0; i < 4; ++i)
+    c.intrinsics_std_px[i] = intrinsics_std.at<double>(i);
+  for (int i = 0; i < 5; ++i)
+    c.distortion_std[i] = intrinsics_std.at<double>(4 + i);
+  for (int v = 0; v < view_errors.rows; ++v) {
+    c.view_errors_px.push_back(view_errors.at<double>(v));
+  }
   summary.converged = std::isfinite(rms);
   if (!summary.converged) summary.why_not = "the fit diverged";
   return summary;
@@ -110,11 +122,24 @@ std::string CameraCalibrationToYaml(const CameraCalibration& calibration) {
                 const_cast<double*>(calibration.distortion.data()));
   fs << "avg_reprojection_error" << calibration.reprojection_error_px;
   fs << "views" << calibration.views;
+  // As OpenCV's calibration sample names them; read by people, not by
+  // LoadCameraCalibration.
+  if (!calibration.view_errors_px.empty()) {
+    fs << "per_view_reprojection_errors"
+       << cv::Mat(calibration.view_errors_px, true);
+  }
+  fs << "intrinsics_std_px_fx_fy_cx_cy"
+     << cv::Mat(1, 4, CV_64F,
+                const_cast<double*>(calibration.intrinsics_std_px.data()));
+  fs << "distortion_coefficients_std"
+     << cv::Mat(1, 5, CV_64F,
+                const_cast<double*>(calibration.distortion_std.data()));
   return fs.releaseAndGetString();
 }
 
 CameraCalibration LoadCameraCalibration(const std::string& path) {
-  const std::string text = ReadTextFile(path, "camera intrinsics");
+  const std::string text =
+      ReadTextFile(path, "camera intrinsics", kMaxIntrinsicsBytes);
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);

@@ -18,6 +18,13 @@ struct CameraCalibration {
   std::array<double, 5> distortion{};
   double reprojection_error_px = 0.0;  // RMS over every corner
   int views = 0;                       // images the fit used
+  // RMS reprojection error of each view the fit used, in the order given
+  // (a view far above the others is a blurred or misdetected board).
+  std::vector<double> view_errors_px;
+  // Standard errors of fx, fy, cx, cy [px] and of k1 k2 p1 p2 k3 (0 for a
+  // coefficient held fixed), from the fit's covariance.
+  std::array<double, 4> intrinsics_std_px{};
+  std::array<double, 5> distortion_std{};
 };
 
 struct BoardOptions {

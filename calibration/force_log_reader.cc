@@ -39,7 +39,7 @@ class LogRowParser {
   LogRowParser(const std::string& path, const ForceLogColumns& columns,
                const ForceLogReadOptions& options, ForceLogReadSummary* summary,
                std::atomic<int64_t>* bytes_done)
-      : reader_(path),
+      : reader_(path, options.decimal_mark),
         columns_(columns),
         options_(options),
         summary_(summary),

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "calibration/force_test.h"
+#include "util/csv.h"
 
 namespace softbench {
 
@@ -42,6 +43,8 @@ struct ForceLogReadOptions {
   // Keep every n-th valid row in memory for the row-wise (robust) fit; 0
   // keeps none, which keeps memory independent of the log's length.
   int64_t keep_every_nth_row = 0;
+  // The numbers' decimal mark, as the user declared it (--decimal-comma).
+  DecimalMark decimal_mark = DecimalMark::kPoint;
 
   std::optional<std::string> Check() const;
 };

@@ -114,6 +114,7 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
   map.pressures_mpa.resize(count, num_actuators);
   map.displacements_mm.resize(count, n);
   map.summaries.resize(count);
+  map.in_range.assign(count, 1);
 
   // The Gray-code order is cut into runs of a fixed length that threads take
   // one at a time: a thread that starts late or shares its core with other
@@ -146,6 +147,10 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
       map.pressures_mpa.row(row) = pressures.transpose();
       if (summary.converged()) {
         map.displacements_mm.row(row) = x.transpose();
+        if (options.range &&
+            OutsideCharacterisedRange(*options.range, problem, pressures, x)) {
+          map.in_range[row] = 0;
+        }
       } else {
         map.displacements_mm.row(row).setConstant(std::nan(""));
       }
@@ -166,6 +171,8 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
   map.num_not_converged = static_cast<int>(std::count_if(
       map.summaries.begin(), map.summaries.end(),
       [](const EquilibriumSummary& s) { return !s.converged(); }));
+  map.num_outside_range = static_cast<int>(
+      std::count(map.in_range.begin(), map.in_range.end(), uint8_t{0}));
 }
 
 }  // namespace softbench

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "model/characterised_range.h"
 #include "model/equilibrium.h"
 
 namespace softbench {
@@ -17,6 +18,10 @@ struct WorkspaceOptions {
   // Worker threads; 0 uses every hardware thread.
   int num_threads = 0;
   EquilibriumOptions equilibrium;
+  // When set, each converged configuration is checked against the range the
+  // constants were characterised over (WorkspaceMap::in_range), on the
+  // workers that solve it.
+  std::optional<CharacterisedRange> range;
 
   std::optional<std::string> Check() const;
 };
@@ -39,6 +44,10 @@ struct WorkspaceMap {
   Eigen::MatrixXd displacements_mm;
   std::vector<EquilibriumSummary> summaries;
   int num_not_converged = 0;
+  // Per row: 0 when it converged beyond WorkspaceOptions::range (the model
+  // extrapolates there; OutsideCharacterisedRange says why), else 1.
+  std::vector<uint8_t> in_range;
+  int num_outside_range = 0;
 
   // Extents per head over converged configurations only.
   std::vector<HeadExtents> Extents() const;

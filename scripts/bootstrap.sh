@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libbenchmark-dev nlohmann-json3-dev
   chromium  # the tests open every HTML report in it (report/check_in_chromium.sh)
   python3   # .ci/check_layers.py, run by the tests
+  clang libclang-rt-14-dev  # the fuzz preset: libFuzzer with ASan and UBSan
 )
 # Node.js and npm install the report's plotting libraries (report/); any
 # Node.js >= 18 will do, so an existing one (e.g. NodeSource's) is kept.

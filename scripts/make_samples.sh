@@ -16,7 +16,7 @@ render() {  # name seed format-rate-control-and-bench-conditions...
   local name=$1 seed=$2
   shift 2
   "$softbench" render --plan "samples/$name/plan.yaml" \
-    --output "$out/$name/$name.mp4" --truth "$out/$name/truth.csv" \
+    --out "$out/$name/$name.mp4" --truth "$out/$name/truth.csv" \
     --plan-out "$out/$name/rendered.plan.yaml" --seed "$seed" "$@"
 }
 render delta 11 --resolution 1080p --codec h264 --crf 20 \

@@ -113,8 +113,13 @@ void AtomicDirectory::Commit() {
   // Move the old report aside first: rename cannot replace a non-empty
   // directory, and readers must never see a half-removed one.
   std::string old;
-  if (fs::exists(path_)) {
-    if (!fs::is_directory(path_)) {
+  const fs::file_status status = fs::symlink_status(path_, error);
+  if (error && error != std::errc::no_such_file_or_directory) {
+    throw InputError(path_ + ": cannot write the report there (" +
+                     error.message() + "); choose another directory");
+  }
+  if (fs::exists(status)) {
+    if (!fs::is_directory(status)) {
       throw InputError(path_ +
                        ": exists and is not a directory; choose "
                        "another report directory");

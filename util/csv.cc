@@ -1,11 +1,13 @@
 #include "util/csv.h"
 
 #include <fast_float/fast_float.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cstring>
 
 #include "util/input_error.h"
+#include "util/input_file.h"
 
 namespace softbench {
 namespace {
@@ -15,6 +17,48 @@ std::string_view Trim(std::string_view text) {
   if (begin == std::string_view::npos) return {};
   const size_t end = text.find_last_not_of(" \t\r");
   return text.substr(begin, end - begin + 1);
+}
+
+// Views of the `separator`-separated fields of `line`, trimmed.
+void SplitOn(std::string_view line, char separator,
+             std::vector<std::string_view>* fields) {
+  fields->clear();
+  size_t start = 0;
+  for (;;) {
+    const size_t end = line.find(separator, start);
+    fields->push_back(Trim(line.substr(start, end - start)));
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+}
+
+// The header's separator: ',' unless it has none and has ';' or tabs
+// (spreadsheets in locales with a decimal comma write ';'). With a declared
+// decimal comma, ';' unless the header uses tabs.
+char DetectSeparator(std::string_view header, DecimalMark decimal_mark) {
+  if (decimal_mark == DecimalMark::kComma) {
+    const bool tabs = header.find('\t') != std::string_view::npos &&
+                      header.find(';') == std::string_view::npos;
+    return tabs ? '\t' : ';';
+  }
+  if (header.find(',') != std::string_view::npos) return ',';
+  if (header.find(';') != std::string_view::npos) return ';';
+  if (header.find('\t') != std::string_view::npos) return '\t';
+  return ',';
+}
+
+constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+
+// A line longer than this is not a CSV row (a binary file or /dev/zero).
+constexpr size_t kMaxLineBytes = size_t{16} << 20;
+
+// "6,5" or "-0,25": a number written with a decimal comma.
+bool IsDecimalCommaNumber(std::string_view field) {
+  const size_t comma = field.find(',');
+  if (comma == std::string_view::npos) return false;
+  std::string dotted(field);
+  dotted[comma] = '.';
+  return ParseDouble(dotted).has_value();
 }
 
 }  // namespace
@@ -34,28 +78,51 @@ std::optional<double> ParseDouble(std::string_view text) {
 
 void SplitCsvLine(std::string_view line,
                   std::vector<std::string_view>* fields) {
-  fields->clear();
-  size_t start = 0;
-  for (;;) {
-    const size_t comma = line.find(',', start);
-    fields->push_back(Trim(line.substr(start, comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
+  SplitOn(line, ',', fields);
 }
 
-CsvReader::CsvReader(const std::string& path)
-    : path_(path),
-      file_(std::fopen(path.c_str(), "rb"), &std::fclose),
-      buffer_(size_t{1} << 20) {
+std::string CsvField(std::string_view text) {
+  const bool plain = text.find_first_of(",\"\r\n") == std::string_view::npos &&
+                     Trim(text).size() == text.size();
+  if (plain) return std::string(text);
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+CsvReader::CsvReader(const std::string& path, DecimalMark decimal_mark)
+    : path_(path), file_(nullptr, &std::fclose), decimal_mark_(decimal_mark) {
+  // A buffer of 1 MiB streams a long log at memory speed; a short file (a
+  // pressure table) gets one its size instead of a megabyte to clear.
+  const int64_t bytes = CheckInputFile(path, "CSV file");
+  buffer_.resize(static_cast<size_t>(
+      std::clamp<int64_t>(bytes + 1, int64_t{4} << 10, int64_t{1} << 20)));
+  file_.reset(std::fopen(path.c_str(), "rb"));
   if (!file_) {
-    throw InputError(path + ": cannot open the file; check the path");
+    throw InputError(path + ": cannot open the file; check its permissions");
   }
   if (!NextContentLine()) {
     throw InputError(path + ": the file is empty; it needs a header row");
   }
+  if (line_.starts_with(kByteOrderMark)) line_.remove_prefix(3);
+  if (const std::optional<NonText> non_text = FindNonText(line_)) {
+    throw InputError(Where() + "the header is not text (" + non_text->problem +
+                     "); is this a CSV file?");
+  }
+  separator_ = DetectSeparator(line_, decimal_mark_);
+  if (decimal_mark_ == DecimalMark::kComma &&
+      line_.find(',') != std::string_view::npos) {
+    throw InputError(Where() +
+                     "the header separates its columns with ',', but the "
+                     "numbers are declared to have a decimal comma; "
+                     "separate columns with ';' or tabs, or drop "
+                     "--decimal-comma");
+  }
   std::vector<std::string_view> fields;
-  SplitCsvLine(line_, &fields);
+  SplitLine(&fields);
   for (std::string_view field : fields) header_.emplace_back(field);
 }
 
@@ -72,7 +139,14 @@ bool CsvReader::Refill() {
   std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
   end_ -= begin_;
   begin_ = 0;
-  if (end_ == buffer_.size()) buffer_.resize(2 * buffer_.size());
+  if (end_ == buffer_.size()) {
+    if (buffer_.size() >= kMaxLineBytes) {
+      throw InputError(fmt::format(
+          "{}:{}: a line longer than {} MiB; this is not a CSV file", path_,
+          line_number_ + 1, kMaxLineBytes >> 20));
+    }
+    buffer_.resize(2 * buffer_.size());
+  }
   const size_t got =
       std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_.get());
   if (got == 0) {
@@ -111,9 +185,98 @@ bool CsvReader::NextContentLine() {
   }
 }
 
+void CsvReader::SplitLine(std::vector<std::string_view>* fields) {
+  if (line_.find('"') == std::string_view::npos) {  // the fast, usual case
+    SplitOn(line_, separator_, fields);
+    return;
+  }
+  // RFC 4180: a field in quotes may hold separators and "" for a quote.
+  fields->clear();
+  unquoted_.clear();
+  size_t i = 0;
+  for (;;) {
+    while (i < line_.size() && (line_[i] == ' ' || line_[i] == '\t') &&
+           line_[i] != separator_) {
+      ++i;
+    }
+    if (i < line_.size() && line_[i] == '"') {
+      std::string& text = unquoted_.emplace_back();
+      for (++i;; ++i) {
+        if (i >= line_.size()) {
+          throw InputError(Where() +
+                           "a quoted field has no closing quote; close it "
+                           "on the same line");
+        }
+        if (line_[i] == '"') {
+          if (i + 1 < line_.size() && line_[i + 1] == '"') {
+            text += '"';
+            ++i;
+            continue;
+          }
+          ++i;
+          break;
+        }
+        text += line_[i];
+      }
+      const size_t end = line_.find(separator_, i);
+      if (!Trim(line_.substr(i, end - i)).empty()) {
+        throw InputError(Where() +
+                         "text after a quoted field's closing quote; quote "
+                         "the whole field");
+      }
+      fields->push_back(text);
+      if (end == std::string_view::npos) return;
+      i = end + 1;
+    } else {
+      const size_t end = line_.find(separator_, i);
+      fields->push_back(Trim(line_.substr(i, end - i)));
+      if (end == std::string_view::npos) return;
+      i = end + 1;
+    }
+  }
+}
+
+void CsvReader::CheckNoDecimalComma(
+    const std::vector<std::string_view>& fields) const {
+  if (separator_ == ',') return;
+  for (std::string_view field : fields) {
+    if (IsDecimalCommaNumber(field)) {
+      throw InputError(fmt::format(
+          "{}'{}' has a decimal comma; write numbers with a decimal point "
+          "('{}') or declare the comma with --decimal-comma",
+          Where(), field, std::string(field).replace(field.find(','), 1, ".")));
+    }
+  }
+}
+
+void CsvReader::ConvertDecimalCommas(std::vector<std::string_view>* fields) {
+  dotted_.clear();
+  for (std::string_view& field : *fields) {
+    if (field.find(',') != std::string_view::npos) {
+      if (IsDecimalCommaNumber(field)) {
+        std::string& dotted = dotted_.emplace_back(field);
+        dotted[dotted.find(',')] = '.';
+        field = dotted;
+      }
+    } else if (field.find('.') != std::string_view::npos &&
+               ParseDouble(field)) {
+      throw InputError(fmt::format(
+          "{}'{}' has a decimal point, but the numbers are declared to have "
+          "a decimal comma (--decimal-comma); write '{}' (a point is not "
+          "read as a thousands separator either)",
+          Where(), field, std::string(field).replace(field.find('.'), 1, ",")));
+    }
+  }
+}
+
 bool CsvReader::ReadRow(std::vector<std::string_view>* fields) {
   if (!NextContentLine()) return false;
-  SplitCsvLine(line_, fields);
+  SplitLine(fields);
+  if (decimal_mark_ == DecimalMark::kComma) {
+    ConvertDecimalCommas(fields);
+  } else {
+    CheckNoDecimalComma(*fields);
+  }
   if (fields->size() != header_.size()) {
     throw InputError(Where() + "has " + std::to_string(fields->size()) +
                      " fields but the header has " +

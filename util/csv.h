@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,14 +17,33 @@ namespace softbench {
 // caller decides whether non-finite values are allowed.
 std::optional<double> ParseDouble(std::string_view text);
 
-// Reads a comma-separated file with a header row, one line at a time, through
+// How a CSV's numbers write their decimal mark.
+enum class DecimalMark {
+  kPoint,  // "6.5", the default; a decimal comma is refused
+  // "6,5", as spreadsheets in many locales export; declared by the user
+  // (--decimal-comma), never guessed. Fields are then separated by ';' or a
+  // tab, and a number written with a point is refused (the point may be a
+  // thousands separator: "1.234,5").
+  kComma,
+};
+
+// Reads a delimited text file with a header row, one line at a time, through
 // a large buffer (multi-gigabyte force logs stream at memory speed). Blank
 // lines and lines starting with '#' are skipped; CRLF line ends are accepted.
-// Errors throw InputError naming the file and line.
+// The dialects spreadsheets write are read: a UTF-8 byte-order mark, fields
+// in double quotes (RFC 4180, "" for a quote inside), and ';' or tab as the
+// separator when the header uses it instead of ','. A decimal comma ("6,5")
+// is refused with a message saying so, never read as two fields or as 6,
+// unless the caller declares it (DecimalMark::kComma): then rows come back
+// with decimal points. Errors throw InputError naming the file and line.
 class CsvReader {
  public:
-  // Opens `path` and reads its header.
-  explicit CsvReader(const std::string& path);
+  // Opens `path` (a regular file) and reads its header.
+  explicit CsvReader(const std::string& path,
+                     DecimalMark decimal_mark = DecimalMark::kPoint);
+
+  // The separator the header uses: ',', ';' or '\t'.
+  char separator() const { return separator_; }
 
   const std::string& path() const { return path_; }
   const std::vector<std::string>& header() const { return header_; }
@@ -45,6 +65,12 @@ class CsvReader {
 
  private:
   bool NextContentLine();
+  // Splits line_ into fields_ views, unquoting quoted fields.
+  void SplitLine(std::vector<std::string_view>* fields);
+  // Throws when a field of a ';' or tab file is a number with a decimal comma.
+  void CheckNoDecimalComma(const std::vector<std::string_view>& fields) const;
+  // DecimalMark::kComma: rewrites "6,5" as "6.5"; throws on "6.5".
+  void ConvertDecimalCommas(std::vector<std::string_view>* fields);
   // Reads more of the file after the unconsumed bytes; false at its end.
   bool Refill();
 
@@ -58,10 +84,20 @@ class CsvReader {
   std::string_view line_;
   std::vector<std::string> header_;
   int line_number_ = 0;
+  char separator_ = ',';
+  DecimalMark decimal_mark_ = DecimalMark::kPoint;
+  // The rewritten numbers of the row last read (DecimalMark::kComma).
+  std::deque<std::string> dotted_;
+  // The quoted fields' text; a deque, so views stay valid as it grows.
+  std::deque<std::string> unquoted_;
 };
 
 // Splits one CSV line on commas into views of `line`, trimming spaces.
 void SplitCsvLine(std::string_view line, std::vector<std::string_view>* fields);
+
+// `text` as one CSV field (RFC 4180): quoted, with quotes doubled, when it
+// holds a comma, a quote, a line end or leading or trailing spaces.
+std::string CsvField(std::string_view text);
 
 }  // namespace softbench
 

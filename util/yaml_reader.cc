@@ -1,6 +1,11 @@
 #include "util/yaml_reader.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <set>
 
 #include "util/csv.h"
 #include "util/input_error.h"
@@ -29,18 +34,25 @@ void YamlReader::Fail(const YAML::Node& node, std::string_view field,
 }
 
 void YamlReader::CheckKeys(
-    const YAML::Node& map,
+    const YAML::Node& map, std::string_view field,
     std::initializer_list<std::string_view> allowed) const {
+  if (!map.IsMap()) Fail(map, field, "must be a map of key: value");
+  std::string list;
+  for (std::string_view name : allowed) {
+    list += (list.empty() ? "" : ", ") + std::string(name);
+  }
+  std::set<std::string, std::less<>> seen;
   for (const auto& entry : map) {
-    const std::string key = entry.first.as<std::string>();
-    bool known = false;
-    std::string list;
-    for (std::string_view name : allowed) {
-      known = known || key == name;
-      list += (list.empty() ? "" : ", ") + std::string(name);
+    if (!entry.first.IsScalar()) {
+      Fail(entry.first, field,
+           "keys must be plain names; expected one of " + list);
     }
-    if (!known) {
+    const std::string& key = entry.first.Scalar();
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       Fail(entry.first, key, "unknown key; expected one of " + list);
+    }
+    if (!seen.insert(key).second) {
+      Fail(entry.first, key, "given twice; keep one");
     }
   }
 }
@@ -74,7 +86,18 @@ std::string YamlReader::String(const YAML::Node& node,
   if (!node.IsScalar() || node.Scalar().empty()) {
     Fail(node, field, "must be a non-empty name");
   }
-  return node.Scalar();
+  const std::string& text = node.Scalar();
+  const auto control = std::find_if(text.begin(), text.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7F;
+  });
+  if (control != text.end()) {
+    Fail(node, field,
+         fmt::format("'{}' holds control character 0x{:02X}; use printable "
+                     "text on one line",
+                     text.substr(0, control - text.begin()),
+                     static_cast<unsigned char>(*control)));
+  }
+  return text;
 }
 
 bool YamlReader::Bool(const YAML::Node& node, std::string_view field) const {

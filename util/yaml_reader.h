@@ -25,14 +25,18 @@ class YamlReader {
   [[noreturn]] void Fail(const YAML::Node& node, std::string_view field,
                          std::string_view message) const;
 
-  // Rejects keys of a map other than `allowed` (catches typos).
-  void CheckKeys(const YAML::Node& map,
+  // Checks that `map` (the value of `field`) is a map whose keys are plain
+  // names, each given once and each one of `allowed` (catches typos). Every
+  // map is checked this way before its keys are read, so a list or a number
+  // where a map belongs is a located error, never yaml-cpp's.
+  void CheckKeys(const YAML::Node& map, std::string_view field,
                  std::initializer_list<std::string_view> allowed) const;
   YAML::Node Require(const YAML::Node& map, std::string_view key) const;
   // A required map of the given name.
   YAML::Node RequireMap(const YAML::Node& map, std::string_view key) const;
 
   double Number(const YAML::Node& node, std::string_view field) const;
+  // A non-empty single-line name without control characters.
   std::string String(const YAML::Node& node, std::string_view field) const;
   // true or false (YAML's spellings).
   bool Bool(const YAML::Node& node, std::string_view field) const;

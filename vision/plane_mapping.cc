@@ -96,6 +96,12 @@ Eigen::Vector2d PlaneMapping::ToPixel(const Eigen::Vector2d& plane_mm) const {
   return camera_.Distort(n.head<2>() / n.z());
 }
 
+double PlaneMapping::CameraHeightMm() const {
+  // The camera centre in the tag's frame is -R^T t; the tag's plane is Z = 0
+  // with Z toward the camera.
+  return -(camera_.camera_from_world().transpose() * camera_.translation()).z();
+}
+
 double PlaneMapping::TiltRad() const {
   // normalized_from_plane is [r1 r2 t] up to scale: the plane's axes in the
   // camera frame; their cross product is its normal.

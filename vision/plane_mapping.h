@@ -51,6 +51,9 @@ class PlaneMapping {
   // Angle between the camera's optical axis and the plane's normal [rad]:
   // the tilt the tag's pose corrects (0 for a mapping from a scale).
   double TiltRad() const;
+  // The camera's height above the tag's plane [mm], from the tag's pose
+  // (0 for a mapping from a scale): a dot plane must lie below it.
+  double CameraHeightMm() const;
 
   const CameraIntrinsics& intrinsics() const { return camera_.intrinsics(); }
 
@@ -58,7 +61,7 @@ class PlaneMapping {
   PlaneMapping(const Camera& camera,
                const Eigen::Matrix3d& plane_from_normalized);
 
-  Camera camera_;  // only its intrinsics are used (undistortion)
+  Camera camera_;  // its intrinsics (undistortion) and the tag's pose
   Eigen::Matrix3d plane_from_normalized_;
   Eigen::Matrix3d normalized_from_plane_;  // its inverse, for ToPixel
 };

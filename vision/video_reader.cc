@@ -164,6 +164,11 @@ struct VideoReader::State {
   std::optional<SdrConverter> to_sdr;
   std::optional<double> hdr_white;  // HdrWhite(), once measured
   int64_t last_good_index = -1;     // for truncation messages
+  // The frame Read() or SeekTo() returned last (-1 after a seek starts):
+  // frames the container lists between it and the next are lost.
+  int64_t last_returned_index = -1;
+  std::vector<VideoReader::DamagedFrame> damaged;
+  bool tainted = false;  // damaged data since the last key frame
   double last_good_time = 0.0;
   int64_t last_good_pts = AV_NOPTS_VALUE;
   // While seeking: packets presented before this are decoded only when
@@ -228,6 +233,32 @@ struct VideoReader::State {
       }
       av_packet_unref(packet);
     }
+  }
+
+  // Whether the frame about to be returned shows damaged data: the decoder
+  // reported errors in it, or in a frame since the last key frame (errors
+  // propagate through the frames predicted from a concealed one, and the
+  // decoder does not flag those).
+  bool FrameDamaged() const { return tainted; }
+
+  // Records the frame about to be returned: the frames the container lists
+  // before it since the last one returned are lost, and it is damaged if
+  // the decoder says so or if it is predicted from damaged data.
+  void NoteReturned() {
+    bool lost = false;
+    for (int64_t i = last_returned_index + 1;
+         last_returned_index >= 0 && i < last_good_index; ++i) {
+      const double time_s = i < static_cast<int64_t>(info.frame_times_s.size())
+                                ? info.frame_times_s[i]
+                                : last_good_time;
+      damaged.push_back({i, time_s, true});
+      lost = true;
+    }
+    if (frame->key_frame) tainted = false;
+    tainted = tainted || lost || frame->decode_error_flags != 0 ||
+              (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0;
+    if (tainted) damaged.push_back({last_good_index, last_good_time, false});
+    last_returned_index = last_good_index;
   }
 
   double FrameTime() const {
@@ -470,6 +501,16 @@ VideoReader::VideoReader(const std::string& path,
       av_find_best_stream(s.format, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
   if (s.stream < 0) s.Fail("no video stream in the file");
   AVStream* stream = s.format->streams[s.stream];
+  // A camera's frame is at most 8K; a larger declared size is damage.
+  constexpr int kMaxSide = 16384;
+  if (stream->codecpar->width <= 0 || stream->codecpar->height <= 0 ||
+      stream->codecpar->width > kMaxSide ||
+      stream->codecpar->height > kMaxSide) {
+    s.Fail(
+        fmt::format("declares a {}x{} picture, which no camera records; "
+                    "re-copy or re-export the file",
+                    stream->codecpar->width, stream->codecpar->height));
+  }
   const AVCodec* decoder = avcodec_find_decoder(stream->codecpar->codec_id);
   if (decoder == nullptr) {
     s.Fail(std::string("no decoder for codec '") +
@@ -525,6 +566,16 @@ VideoReader::VideoReader(const std::string& path,
            "; softbench reads YUV or grey video of 8 to 16 bits (4:2:0, "
            "4:2:2 or 4:4:4); re-encode it, e.g. ffmpeg -i IN -pix_fmt "
            "yuv444p10le OUT.mp4");
+  }
+  // A photo opens as a one-frame "video"; say what it is instead of what
+  // its single frame lacks.
+  const std::string_view container = s.format->iformat->name;
+  if (container == "image2" || container.ends_with("_pipe") ||
+      (stream->disposition & AV_DISPOSITION_ATTACHED_PIC) != 0) {
+    s.Fail(
+        fmt::format("is a still image ({}), not a video; give the bench "
+                    "video",
+                    container));
   }
   info.pixel_format = s.desc->name;
   info.bit_depth = s.desc->comp[0].depth;
@@ -582,11 +633,22 @@ const std::string& VideoReader::path() const { return state_->path; }
 
 bool VideoReader::Read(VideoFrame* frame) {
   if (!state_->Next()) return false;
+  state_->NoteReturned();
   state_->Convert(frame);
+  frame->damaged = state_->FrameDamaged();
   return true;
 }
 
-bool VideoReader::Skip() { return state_->Next(); }
+bool VideoReader::Skip() {
+  if (!state_->Next()) return false;
+  state_->NoteReturned();
+  return true;
+}
+
+const std::vector<VideoReader::DamagedFrame>& VideoReader::damaged_frames()
+    const {
+  return state_->damaged;
+}
 
 VideoFrame VideoReader::SeekTo(double time_s) {
   State& s = *state_;
@@ -658,8 +720,12 @@ VideoFrame VideoReader::SeekTo(double time_s) {
     seek_to = entry->timestamp - 1;
     forward = false;
   }
+  s.last_returned_index = -1;  // the frames skipped to get here are not lost
+  s.tainted = false;           // decoding restarted at a key frame
+  s.NoteReturned();
   VideoFrame frame;
   s.Convert(&frame);
+  frame.damaged = s.FrameDamaged();
   return frame;
 }
 

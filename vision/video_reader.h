@@ -25,6 +25,9 @@ struct VideoFrame {
   double time_s = 0.0;  // presentation time from the start of the stream
   cv::Mat luma;         // CV_8UC1 or CV_16UC1
   cv::Mat bgr;          // CV_8UC3
+  // The decoder reported errors in this frame (bit flips, a lost packet):
+  // its pixels are partly concealed and must not be measured.
+  bool damaged = false;
 };
 
 struct VideoReaderOptions {
@@ -96,6 +99,18 @@ class VideoReader {
   // non-reference frames before the target (bit-exact: nothing refers to
   // them).
   VideoFrame SeekTo(double time_s);
+
+  // The frames lost to damaged data so far, in the order met: frames the
+  // decoder marked as decoded with errors (concealed pixels), and frames the
+  // container lists that the decoder never returned between two returned
+  // ones. A damaged frame is returned by Read() with `damaged` set; a lost
+  // one is not returned at all.
+  struct DamagedFrame {
+    int64_t index = 0;
+    double time_s = 0.0;
+    bool lost = false;  // never returned (else decoded with errors)
+  };
+  const std::vector<DamagedFrame>& damaged_frames() const;
 
   // The colour of a region (display coordinates, clipped to the frame) of
   // the frame last returned by Read() or SeekTo(), converted with the same

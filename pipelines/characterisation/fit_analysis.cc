@@ -64,6 +64,7 @@ std::vector<ForceRow> ReadLogs(const FitAnalysisOptions& options,
   int64_t total_bytes = 0;
   for (const std::string& file : files) total_bytes += FileBytes(file);
   ForceLogReadOptions read_options;
+  read_options.decimal_mark = options.decimal_mark;
   if (options.fit.loss != FitLoss::kLeastSquares) {
     read_options.keep_every_nth_row = std::max<int64_t>(
         1, EstimateRows(files, total_bytes) / options.robust_rows);

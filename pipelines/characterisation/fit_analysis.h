@@ -29,6 +29,8 @@ struct FitAnalysisOptions {
   double natural_length_mm = 18.5;
   int threads = 0;       // files read at once (0: one per core)
   bool progress = true;  // a progress bar on stderr while reading
+  // The logs' decimal mark, as the user declared it (--decimal-comma).
+  DecimalMark decimal_mark = DecimalMark::kPoint;
 
   // The first bad field, named, and what it must be.
   std::optional<std::string> Check() const;

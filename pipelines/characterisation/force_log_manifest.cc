@@ -11,6 +11,9 @@
 
 namespace softbench {
 
+// A manifest lists log files; thousands of entries fit in far less.
+constexpr int64_t kMaxManifestBytes = int64_t{4} << 20;
+
 void ParseSignedColumn(const std::string& text, const std::string& what,
                        std::string* column, double* sign) {
   std::string_view name = text;
@@ -42,14 +45,14 @@ ForceLogColumns ParseColumns(const YamlReader& reader, const YAML::Node& root) {
   }
   columns.pressure = "pressure_" + unit;
   if (const YAML::Node names = root["columns"]) {
-    reader.CheckKeys(names, {"time", "pressure"});
+    reader.CheckKeys(names, "columns", {"time", "pressure"});
     if (names["time"]) columns.time = reader.String(names["time"], "time");
     if (names["pressure"]) {
       columns.pressure = reader.String(names["pressure"], "pressure");
     }
   }
   if (const YAML::Node axes = root["axes"]) {
-    reader.CheckKeys(axes, {"axial", "shear"});
+    reader.CheckKeys(axes, "axes", {"axial", "shear"});
     if (axes["axial"]) {
       ParseSignedColumn(reader.String(axes["axial"], "axial"),
                         reader.Where(axes["axial"]) + "axes.axial",
@@ -68,8 +71,9 @@ ForceLogColumns ParseColumns(const YamlReader& reader, const YAML::Node& root) {
 ForceTest ParseTest(const YamlReader& reader, const YAML::Node& node,
                     const std::vector<ForceTest>& earlier) {
   ForceTest test;
-  reader.CheckKeys(node, {"id", "file", "delta_length_mm", "theta_deg",
-                          "measured_delta_length_mm", "measured_theta_deg"});
+  reader.CheckKeys(node, "tests entry",
+                   {"id", "file", "delta_length_mm", "theta_deg",
+                    "measured_delta_length_mm", "measured_theta_deg"});
   test.id = reader.String(reader.Require(node, "id"), "id");
   for (const ForceTest& other : earlier) {
     if (other.id == test.id) {
@@ -103,7 +107,7 @@ ForceLogManifest ParseForceLogManifest(std::string_view yaml,
                      ": a force-log manifest is a map (see "
                      "docs/file-formats.md#force-logs)");
   }
-  reader.CheckKeys(root,
+  reader.CheckKeys(root, "force-log manifest",
                    {"pressure_unit", "columns", "axes", "tests", "combined"});
   ForceLogManifest manifest;
   manifest.columns = ParseColumns(reader, root);
@@ -135,7 +139,7 @@ ForceLogManifest ParseForceLogManifest(std::string_view yaml,
 
 ForceLogManifest LoadForceLogManifest(const std::string& path) {
   return ParseForceLogManifest(
-      ReadTextFile(path, "force-log manifest"), path,
+      ReadTextFile(path, "force-log manifest", kMaxManifestBytes), path,
       std::filesystem::path(path).parent_path().string());
 }
 

@@ -1,10 +1,14 @@
 #include "pipelines/commands/calibrate_camera_command.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 
 #include "calibration/camera_calibration.h"
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/measurement/board_views.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
@@ -13,25 +17,63 @@ namespace softbench {
 
 void AddCalibrateCameraCommand(CLI::App* c,
                                CalibrateCameraCommandOptions* options) {
-  auto* video = c->add_option("--video", options->video_path,
-                              "video of a checkerboard moved around the field");
-  auto* images = c->add_option("--images", options->images_dir,
-                               "folder of checkerboard images (.png, .jpg)");
-  video->excludes(images);
+  c->add_option("source", options->source_path,
+                "video of a checkerboard moved around the field, or a folder "
+                "of checkerboard images (.png, .jpg)")
+      ->required();
   c->add_option("--board", options->board,
                 "inner corners per row x per column, e.g. 9x6")
       ->capture_default_str();
-  c->add_option("--square-mm", options->square_mm, "side of one square")
-      ->capture_default_str();
+  c->add_option("--square-mm", options->square_mm,
+                "side of one printed square, measured on the print [mm]")
+      ->required();
   c->add_option("--every-s", options->every_s,
                 "video: seconds between views used")
       ->capture_default_str();
   c->add_flag("--fit-k3", options->fit_k3,
               "also fit k3 (wide-angle lenses only)");
-  c->add_option("--output", options->output_path,
-                "intrinsics YAML to write (OpenCV format)")
+  AddOutOption(c, &options->output_path,
+               "intrinsics YAML to write (OpenCV format)")
       ->required();
 }
+
+namespace {
+
+// A view whose error is this many times the median's is named as one to
+// drop (a blurred or misdetected board pulls the fit).
+constexpr double kOutlierViewFactor = 2.0;
+
+// Each view's RMS reprojection error, the views without a board, and the
+// views to consider dropping.
+std::string ViewErrorsTable(const BoardViews& views,
+                            const CameraCalibration& c) {
+  std::string table = "view  reprojection_error_px\n";
+  std::vector<double> sorted = c.view_errors_px;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  std::vector<std::string> outliers;
+  for (size_t v = 0; v < c.view_errors_px.size() && v < views.names.size();
+       ++v) {
+    const bool outlier = c.view_errors_px[v] > kOutlierViewFactor * median;
+    table += fmt::format("{}  {:.3f}{}\n", views.names[v], c.view_errors_px[v],
+                         outlier ? "  <- far above the median" : "");
+    if (outlier) outliers.push_back(views.names[v]);
+  }
+  if (!views.missed.empty()) {
+    table += fmt::format(
+        "no whole board found in {} view{}: {}\n", views.missed.size(),
+        views.missed.size() == 1 ? "" : "s", fmt::join(views.missed, ", "));
+  }
+  if (!outliers.empty()) {
+    table += fmt::format(
+        "consider removing {} (error over {:.0f}x the median {:.3f} px) and "
+        "calibrating again\n",
+        fmt::join(outliers, ", "), kOutlierViewFactor, median);
+  }
+  return table;
+}
+
+}  // namespace
 
 int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
                        std::ostream& out) {
@@ -48,19 +90,16 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
   if (auto problem = calibration.Check())
     throw InputError("--board: " + *problem);
   if (!(options.every_s > 0.0)) throw InputError("--every-s: must be > 0");
-  if (options.video_path.empty() == options.images_dir.empty()) {
-    throw InputError("give --video or --images (one of them)");
-  }
+  CheckOutputFile(options.output_path, "--out");
   BoardViewsOptions view_options;
   view_options.board = calibration.board;
   view_options.every_s = options.every_s;
   view_options.progress = !options.quiet;
-  const std::string& source =
-      options.video_path.empty() ? options.images_dir : options.video_path;
-  const BoardViews views =
-      options.video_path.empty()
-          ? BoardViewsFromImages(options.images_dir, view_options)
-          : BoardViewsFromVideo(options.video_path, view_options);
+  const std::string& source = options.source_path;
+  std::error_code error;
+  const BoardViews views = std::filesystem::is_directory(source, error)
+                               ? BoardViewsFromImages(source, view_options)
+                               : BoardViewsFromVideo(source, view_options);
   const CameraCalibrationSummary summary =
       CalibrateCamera(views.corners, views.size, calibration);
   if (!summary.converged) {
@@ -69,14 +108,20 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
   }
   const CameraCalibration& c = summary.calibration;
   WriteFileAtomically(options.output_path, CameraCalibrationToYaml(c));
+  out << ViewErrorsTable(views, c);
   out << fmt::format(
       "calibrated from {} of {} views of {}: fx {:.2f} fy {:.2f} cx {:.2f} "
       "cy {:.2f} px, k1 {:.5f} k2 {:.5f} p1 {:.6f} p2 {:.6f} k3 {:.5f}; "
-      "reprojection error {:.3f} px RMS; written to {}\n",
+      "reprojection error {:.3f} px RMS; written to {}\n"
+      "standard errors: fx {:.2f} fy {:.2f} cx {:.2f} cy {:.2f} px, k1 "
+      "{:.5f} k2 {:.5f} p1 {:.6f} p2 {:.6f} k3 {:.5f}\n",
       c.views, views.looked_at, source, c.camera_matrix(0, 0),
       c.camera_matrix(1, 1), c.camera_matrix(0, 2), c.camera_matrix(1, 2),
       c.distortion[0], c.distortion[1], c.distortion[2], c.distortion[3],
-      c.distortion[4], c.reprojection_error_px, options.output_path);
+      c.distortion[4], c.reprojection_error_px, options.output_path,
+      c.intrinsics_std_px[0], c.intrinsics_std_px[1], c.intrinsics_std_px[2],
+      c.intrinsics_std_px[3], c.distortion_std[0], c.distortion_std[1],
+      c.distortion_std[2], c.distortion_std[3], c.distortion_std[4]);
   return 0;
 }
 

@@ -10,11 +10,11 @@ namespace softbench {
 // `softbench calibrate-camera`: intrinsics and distortion from checkerboard
 // views (a video or a folder of images), in OpenCV's YAML format.
 struct CalibrateCameraCommandOptions {
-  std::string video_path;
-  std::string images_dir;
+  // A video of the board moved around, or a folder of its photos.
+  std::string source_path;
   std::string board = "9x6";  // inner corners, columns x rows
-  double square_mm = 10.0;
-  double every_s = 0.5;  // video: one view per this many seconds
+  double square_mm = 0.0;     // required: the printed square, measured
+  double every_s = 0.5;       // video: one view per this many seconds
   bool fit_k3 = false;
   std::string output_path;
   bool quiet = false;

@@ -4,11 +4,13 @@
 #include <spdlog/spdlog.h>
 
 #include "model/units.h"
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_selection.h"
 #include "pipelines/formats/constants_file.h"
 #include "pipelines/reports/fit_report.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/csv.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -44,15 +46,14 @@ void AddFitCommand(CLI::App* command, FitCommandOptions* options) {
       ->add_option("input", options->input_path,
                    "force-log manifest (.yaml) or combined log (.csv)")
       ->required();
-  command->add_option("--output", options->output_path,
-                      "constants YAML to write (the input of predict, "
-                      "workspace, validate)");
+  AddOutOption(command, &options->output_path,
+               "constants YAML to write (the input of predict, workspace, "
+               "validate)");
   command->add_option("--report", options->report_directory,
                       "report directory (tables, fit.json, report.html)");
   command
-      ->add_option(
-          "--variant", options->variant,
-          "variant whose constants --output gets: " + ModelVariantNames())
+      ->add_option("--variant", options->variant,
+                   "variant whose constants --out gets: " + ModelVariantNames())
       ->capture_default_str();
   command
       ->add_option("--loss", options->loss,
@@ -79,10 +80,9 @@ void AddFitCommand(CLI::App* command, FitCommandOptions* options) {
       ->add_option("--natural-length", options->natural_length_mm,
                    "L0 [mm] of the variable-arm variant (Eq. 3.3)")
       ->capture_default_str();
-  command
-      ->add_option("--pressure-unit", options->pressure_unit,
-                   "combined CSV without manifest: " + PressureUnitNames())
-      ->capture_default_str();
+  command->add_option("--pressure-unit", options->pressure_unit,
+                      "combined CSV without manifest: " + PressureUnitNames() +
+                          " (default: its pressure_UNIT column's)");
   command
       ->add_option("--axial", options->axial,
                    "combined CSV without manifest: signed axial column")
@@ -91,9 +91,29 @@ void AddFitCommand(CLI::App* command, FitCommandOptions* options) {
       ->add_option("--shear", options->shear,
                    "combined CSV without manifest: signed shear column")
       ->capture_default_str();
-  command->add_option("--threads", options->threads, "worker threads (0: all)")
-      ->capture_default_str();
+  AddThreadsOption(command, &options->threads);
+  AddDecimalCommaFlag(command, &options->decimal_comma);
 }
+
+namespace {
+
+// The pressure unit of a combined CSV: --pressure-unit, else the one its
+// pressure_UNIT column names (never assumed).
+std::string CombinedPressureUnit(const FitCommandOptions& flags) {
+  if (flags.pressure_unit) return *flags.pressure_unit;
+  const CsvReader reader(flags.input_path);
+  for (const PressureUnit& unit : kPressureUnits) {
+    if (reader.ColumnIndex("pressure_" + std::string(unit.name)) >= 0) {
+      return std::string(unit.name);
+    }
+  }
+  throw InputError(flags.input_path +
+                   ":1: no pressure column with its unit (pressure_psi, "
+                   "pressure_kpa or pressure_mpa); rename it, or pass "
+                   "--pressure-unit");
+}
+
+}  // namespace
 
 FitAnalysisOptions FitAnalysisOptionsFromFlags(const FitCommandOptions& flags) {
   FitAnalysisOptions options;
@@ -104,11 +124,15 @@ FitAnalysisOptions FitAnalysisOptionsFromFlags(const FitCommandOptions& flags) {
   options.fit.shear_weight = flags.shear_weight;
   options.robust_rows = flags.robust_rows;
   options.natural_length_mm = flags.natural_length_mm;
+  options.decimal_mark = DecimalMarkFromFlag(flags.decimal_comma);
   options.threads = flags.threads;
   options.progress = !flags.quiet;
   ForceLogColumns& columns = options.combined_columns;
-  columns.mpa_per_unit = MpaPerPressureUnitFlag(flags.pressure_unit);
-  columns.pressure = "pressure_" + flags.pressure_unit;
+  if (flags.input_path.ends_with(".csv")) {  // a manifest states its unit
+    const std::string unit = CombinedPressureUnit(flags);
+    columns.mpa_per_unit = MpaPerPressureUnitFlag(unit);
+    columns.pressure = "pressure_" + unit;
+  }
   ParseSignedColumn(flags.axial, "--axial", &columns.axial,
                     &columns.axial_sign);
   ParseSignedColumn(flags.shear, "--shear", &columns.shear,
@@ -119,8 +143,58 @@ FitAnalysisOptions FitAnalysisOptionsFromFlags(const FitCommandOptions& flags) {
   return options;
 }
 
+namespace {
+
+// The range the logs span: the highest pressure and the largest |dL| and
+// |theta| of their configurations.
+CharacterisedRange FittedRange(const FitRun& run) {
+  CharacterisedRange range{0.0, 0.0, 0.0};
+  for (const ForceTest& test : run.tests) {
+    range.max_pressure_mpa =
+        std::max(range.max_pressure_mpa, test.statistics.max_pressure_mpa);
+    range.max_abs_delta_length_mm = std::max(range.max_abs_delta_length_mm,
+                                             std::abs(test.delta_length_mm()));
+    range.max_abs_theta_rad =
+        std::max(range.max_abs_theta_rad, std::abs(test.theta_rad()));
+  }
+  // A protocol that never bent or stretched still spans a sliver around 0
+  // (WhyBendingUnidentifiable refuses the constants of one that never bent).
+  range.max_abs_delta_length_mm = std::max(range.max_abs_delta_length_mm, 0.1);
+  range.max_abs_theta_rad = std::max(range.max_abs_theta_rad, DegToRad(1.0));
+  return range;
+}
+
+// W_y and k_theta act only through the bend angle (Eq. 2.7, 2.14): tests
+// whose angles span less than this cannot tell them apart from noise, and a
+// fit would report whatever the angle sensor's jitter implies, with a
+// standard error that looks fine.
+constexpr double kMinBendSpanDeg = 5.0;
+
+std::optional<std::string> WhyBendingUnidentifiable(const FitRun& run) {
+  double low = INFINITY, high = -INFINITY;
+  for (const ForceTest& test : run.tests) {
+    low = std::min(low, RadToDeg(test.theta_rad()));
+    high = std::max(high, RadToDeg(test.theta_rad()));
+  }
+  if (high - low >= kMinBendSpanDeg) return std::nullopt;
+  return fmt::format(
+      "the tests' bend angles span only {:.2f} deg ({:.2f} to {:.2f}), so "
+      "W_y and k_theta, which act through the bend, are not identifiable "
+      "(the fit's values for them come from the angles' jitter); add tests "
+      "at several angles (the thesis: 0 to 30 deg)",
+      high - low, low, high);
+}
+
+}  // namespace
+
 int RunFit(const FitCommandOptions& options, std::ostream& out) {
   CheckVariantName(options.variant);
+  if (!options.output_path.empty()) {
+    CheckOutputFile(options.output_path, "--out");
+  }
+  if (!options.report_directory.empty()) {
+    CheckOutputDirectory(options.report_directory, "--report");
+  }
   const FitRun run = RunFitAnalysis(FitAnalysisOptionsFromFlags(options));
   for (const std::string& warning : run.warnings) spdlog::warn("{}", warning);
   out << FitTable(run);
@@ -137,6 +211,10 @@ int RunFit(const FitCommandOptions& options, std::ostream& out) {
                                  options.input_path, options.variant,
                                  chosen->why_not));
   }
+  if (const std::optional<std::string> why = WhyBendingUnidentifiable(run)) {
+    throw InputError(fmt::format("{}: {} constants not written: {}",
+                                 options.input_path, options.variant, *why));
+  }
   if (const std::optional<std::string> problem = chosen->constants.Check()) {
     throw InputError(
         fmt::format("{}: the fitted {} constants are not "
@@ -144,7 +222,7 @@ int RunFit(const FitCommandOptions& options, std::ostream& out) {
                     options.input_path, options.variant, *problem));
   }
   if (!options.output_path.empty()) {
-    ConstantsFile file{chosen->constants, options.variant};
+    ConstantsFile file{chosen->constants, options.variant, FittedRange(run)};
     WriteFileAtomically(
         options.output_path,
         ConstantsYaml(

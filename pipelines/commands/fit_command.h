@@ -26,10 +26,12 @@ struct FitCommandOptions {
   int64_t robust_rows = 1000000;
   double natural_length_mm = 18.5;  // L0 of the variable-arm variant
   // For a combined CSV without a manifest.
-  std::string pressure_unit = "kpa";
+  // A combined CSV's pressure unit; unset: its pressure_UNIT column says.
+  std::optional<std::string> pressure_unit;
   std::string axial = "+fz_n";
   std::string shear = "+fy_n";
   int threads = 0;
+  bool decimal_comma = false;  // the logs write 6,5 (declared, not guessed)
   bool quiet = false;
 };
 

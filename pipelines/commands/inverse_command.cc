@@ -1,6 +1,7 @@
 #include "pipelines/commands/inverse_command.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "model/inverse.h"
 #include "pipelines/commands/model_flags.h"
@@ -29,11 +30,12 @@ void AddInverseCommand(CLI::App* command, InverseCommandOptions* options) {
       ->required();
   command->add_option("--max", options->max_pressure,
                       "highest allowed pressure, in --pressure-unit "
-                      "(default: 6 psi)");
+                      "(default: 6 psi, the thesis's regulator limit)");
 }
 
 int RunInverse(const InverseCommandOptions& options, std::ostream& out) {
   const ResolvedModel resolved = ResolveModel(options.model);
+  RequirePressureUnit(resolved, "the answer");
   const std::vector<double> target =
       ParseNumberList(options.target, "--target");
   const int n = resolved.mechanism.NumUnknowns();
@@ -44,12 +46,13 @@ int RunInverse(const InverseCommandOptions& options, std::ostream& out) {
         target.size(), resolved.mechanism.name, n / 2, n));
   }
   InverseOptions inverse_options;
-  if (options.max_pressure < 0.0 || !std::isfinite(options.max_pressure)) {
-    throw InputError("--max: must be a number > 0");
-  }
-  if (options.max_pressure > 0.0) {
+  if (options.max_pressure) {
+    if (!(*options.max_pressure > 0.0) ||
+        !std::isfinite(*options.max_pressure)) {
+      throw InputError("--max: must be a number > 0, in --pressure-unit");
+    }
     inverse_options.max_pressure_mpa =
-        options.max_pressure * resolved.mpa_per_unit;
+        *options.max_pressure * resolved.mpa_per_unit;
   }
   const EquilibriumProblem problem(resolved.mechanism, resolved.force_model);
   const Eigen::VectorXd target_mm =
@@ -59,6 +62,14 @@ int RunInverse(const InverseCommandOptions& options, std::ostream& out) {
   if (!result.solved) {
     throw InputError("inverse: the solver found no equilibrium at any start (" +
                      result.message + ")");
+  }
+  if (const std::optional<std::string> beyond = OutsideCharacterisedRange(
+          resolved.range, problem, result.pressures_mpa,
+          result.displacements_mm)) {
+    spdlog::warn(
+        "the answer lies beyond the range the constants were characterised "
+        "over ({}): the model extrapolates there",
+        *beyond);
   }
   if (result.reachable) {
     out << fmt::format(

@@ -13,8 +13,10 @@ namespace softbench {
 // target, or the verdict "unreachable" with the closest reachable point.
 struct InverseCommandOptions {
   ModelSelection model;
-  std::string target;         // "y,z" per head, in mm
-  double max_pressure = 0.0;  // in the selected unit; 0: 6 psi
+  std::string target;  // "y,z" per head, in mm
+  // Highest allowed pressure in the selected unit; unset: 6 psi, the
+  // thesis's regulator limit.
+  std::optional<double> max_pressure;
 };
 
 // Exit code of an unreachable target (the answer is printed, not an error).

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -15,10 +16,22 @@
 
 namespace {
 
-// Exit codes: 0 success, 1 internal failure, 2 bad input, 3 unreachable
-// target (inverse), CLI11's own codes (>= 100) for malformed command lines.
+// Exit codes: 0 success, 1 internal failure, 2 bad input (a file or the
+// command line), 3 unreachable target (inverse) or tests unlike their plan
+// entries (validate).
 constexpr int kExitInternal = 1;
 constexpr int kExitInputError = 2;
+
+// A malformed command line as one line, like every other bad input, naming
+// the help of the command it was for.
+std::string CommandLineError(const CLI::App* app, const CLI::Error& error) {
+  std::string help = "softbench --help";
+  for (const CLI::App* subcommand : app->get_subcommands()) {
+    help = "softbench " + subcommand->get_name() + " --help";
+  }
+  return "softbench: error: " + std::string(error.what()) + "; see '" + help +
+         "'\n";
+}
 
 }  // namespace
 
@@ -27,6 +40,12 @@ int main(int argc, char** argv) {
       "softbench: soft pneumatic actuator mechanisms, from model to bench "
       "video"};
   app.require_subcommand(1);
+  app.failure_message(CommandLineError);
+  // Global options work anywhere on the line: an option a subcommand does
+  // not know falls through to here (`softbench validate ... -q`).
+  app.fallthrough();
+  app.set_version_flag("--version",
+                       std::string("softbench ") + SOFTBENCH_VERSION);
   softbench::GlobalFlags global;
   app.add_flag("--quiet,-q", global.quiet,
                "print errors only (no progress, no warnings)");
@@ -40,7 +59,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every malformed line is bad input.
+    return app.exit(e) == 0 ? 0 : kExitInputError;
   }
   auto logger = spdlog::stderr_color_mt("softbench");
   logger->set_pattern("softbench: %l: %v");

@@ -26,10 +26,10 @@ void AddModelSelectionOptions(CLI::App* command, ModelSelection* selection) {
                           "file's, else small-angle)");
   command->add_option("--constants", selection->constants_path,
                       "actuator constants YAML (default: the thesis's fit)");
-  command
-      ->add_option("--pressure-unit", selection->pressure_unit,
-                   "unit of pressures read and written: " + PressureUnitNames())
-      ->capture_default_str();
+  command->add_option(
+      "--pressure-unit", selection->pressure_unit,
+      "unit of pressures read and written: " + PressureUnitNames() +
+          " (required unless an input's columns state it)");
 }
 
 std::vector<double> ParseNumberList(const std::string& text,

@@ -15,11 +15,25 @@ double MpaPerPressureUnitFlag(const std::string& unit) {
                    PressureUnitNames());
 }
 
+void RequirePressureUnit(const ResolvedModel& resolved, std::string_view what) {
+  if (resolved.pressure_unit.empty()) {
+    throw InputError(fmt::format(
+        "--pressure-unit: missing; say which unit {} is in: {} (softbench "
+        "never assumes one)",
+        what, PressureUnitNames()));
+  }
+}
+
 ResolvedModel ResolveModel(const ModelSelection& selection) {
   ResolvedModel resolved;
-  resolved.mpa_per_unit = MpaPerPressureUnitFlag(selection.pressure_unit);
-  resolved.pressure_unit = selection.pressure_unit;
+  if (selection.pressure_unit) {
+    resolved.mpa_per_unit = MpaPerPressureUnitFlag(*selection.pressure_unit);
+    resolved.pressure_unit = *selection.pressure_unit;
+  }
   resolved.mechanism = LoadMechanism(selection.mechanism);
+  if (!selection.constants_path.empty()) {
+    resolved.range = LoadConstantsFile(selection.constants_path).range;
+  }
 
   if (selection.model == "pressurized-spring") {
     if (selection.variant) {

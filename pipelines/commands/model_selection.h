@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "model/actuator_model.h"
+#include "model/characterised_range.h"
 #include "model/mechanism.h"
 
 namespace softbench {
@@ -19,8 +20,10 @@ struct ModelSelection {
   // Unset: the constants file's, else small-angle; set, even to "", it
   // must name a variant.
   std::optional<std::string> variant;
-  std::string constants_path;         // empty: the thesis's constants
-  std::string pressure_unit = "kpa";  // a name of kPressureUnits
+  std::string constants_path;  // empty: the thesis's constants
+  // A name of kPressureUnits; never defaulted: a pressure without a stated
+  // unit is an error.
+  std::optional<std::string> pressure_unit;
 };
 
 // The selection, loaded and checked.
@@ -28,9 +31,15 @@ struct ResolvedModel {
   Mechanism mechanism;
   ForceModel force_model;
   std::string model_name;  // "axial-shear (small-angle)", "pressurized-spring"
-  std::string pressure_unit;  // as given
-  double mpa_per_unit = 1.0;  // multiply a pressure in `pressure_unit` by this
+  std::string pressure_unit;  // as given; empty when not given
+  double mpa_per_unit = 0.0;  // multiply a pressure in `pressure_unit` by this
+  // Where the constants hold (their file's, else the thesis's protocol).
+  CharacterisedRange range;
 };
+
+// Throws unless --pressure-unit was given; `what` names the pressures that
+// need it ("--pressures").
+void RequirePressureUnit(const ResolvedModel& resolved, std::string_view what);
 
 // Loads the mechanism and constants; throws InputError on any bad choice.
 ResolvedModel ResolveModel(const ModelSelection& selection);

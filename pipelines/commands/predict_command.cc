@@ -5,6 +5,7 @@
 
 #include "model/equilibrium.h"
 #include "pipelines/commands/command_output.h"
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
 #include "pipelines/formats/prediction_table.h"
 #include "pipelines/formats/pressure_csv.h"
@@ -14,27 +15,37 @@ namespace softbench {
 
 void AddPredictCommand(CLI::App* command, PredictOptions* options) {
   AddModelSelectionOptions(command, &options->model);
-  command->add_option("--input", options->input_path,
-                      "CSV of pressures with columns p1..pN");
-  command->add_option("--output", options->output_path,
-                      "predictions CSV to write ('-' for standard output)");
+  command->add_option("input", options->input_path,
+                      "CSV of pressures with columns p1_UNIT..pN_UNIT (e.g. "
+                      "p1_psi), or p1..pN with --pressure-unit");
+  AddOutOption(command, &options->output_path,
+               "predictions CSV to write ('-' for standard output)");
   command->add_option("--pressures", options->pressures,
                       "one configuration, e.g. 6,6,0, printed for people");
+  AddDecimalCommaFlag(command, &options->decimal_comma);
 }
 
 int RunPredict(const PredictOptions& options, std::ostream& out) {
   if (options.pressures.empty() == options.input_path.empty()) {
-    throw InputError("predict: give either --pressures or --input");
+    throw InputError(
+        "predict: give either a pressures CSV or --pressures (one of them)");
   }
   if (!options.input_path.empty() && options.output_path.empty()) {
-    throw InputError("predict: --input needs --output (a CSV path, or '-')");
+    throw InputError(
+        "predict: a pressures CSV needs --out (a CSV path, or '-')");
+  }
+  if (!options.output_path.empty()) {
+    CheckOutputFile(options.output_path, "--out");
   }
   const ResolvedModel resolved = ResolveModel(options.model);
   const Mechanism& mechanism = resolved.mechanism;
   const int num_actuators = mechanism.NumActuators();
 
   std::vector<Eigen::VectorXd> rows;
+  std::string unit = resolved.pressure_unit;
+  double mpa_per_unit = resolved.mpa_per_unit;
   if (!options.pressures.empty()) {
+    RequirePressureUnit(resolved, "--pressures");
     const std::vector<double> values =
         ParseNumberList(options.pressures, "--pressures");
     if (static_cast<int>(values.size()) != num_actuators) {
@@ -50,16 +61,26 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
     rows.push_back(
         Eigen::Map<const Eigen::VectorXd>(values.data(), num_actuators));
   } else {
-    rows = ReadPressureRows(options.input_path, num_actuators, nullptr);
+    PressureCsvOptions csv;
+    csv.num_actuators = num_actuators;
+    if (!unit.empty()) csv.stated_unit = unit;
+    csv.how_to_state = "or pass --pressure-unit";
+    csv.decimal_mark = DecimalMarkFromFlag(options.decimal_comma);
+    PressureRows read = ReadPressureRows(options.input_path, csv);
+    rows = std::move(read.rows);
+    unit = read.unit;
+    mpa_per_unit = read.mpa_per_unit;
   }
 
   const EquilibriumProblem problem(mechanism, resolved.force_model);
   EquilibriumSolver solver(problem);
-  PredictionTable table(mechanism);
+  PredictionTable table(mechanism, unit);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(problem.NumUnknowns());
   int not_converged = 0;
+  int outside = 0;
+  std::string first_outside;
   for (const Eigen::VectorXd& row : rows) {
-    const Eigen::VectorXd pressures_mpa = row * resolved.mpa_per_unit;
+    const Eigen::VectorXd pressures_mpa = row * mpa_per_unit;
     // Rows are often neighbours; start from the previous solution and fall
     // back to the rest state.
     EquilibriumSummary summary = solver.Solve(pressures_mpa, &x);
@@ -71,11 +92,15 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
       ++not_converged;
       x.setZero();
     }
-    table.AddRow(row, x, summary);
+    const std::optional<std::string> beyond =
+        summary.converged() ? OutsideCharacterisedRange(resolved.range, problem,
+                                                        pressures_mpa, x)
+                            : std::nullopt;
+    if (beyond && outside++ == 0) first_outside = *beyond;
+    table.AddRow(row, x, summary, !beyond);
     if (!options.pressures.empty()) {
       out << fmt::format("{} {}, p = ({}) {}: ", mechanism.name,
-                         resolved.model_name, options.pressures,
-                         resolved.pressure_unit)
+                         resolved.model_name, options.pressures, unit)
           << (summary.converged() ? FormatHeadPositions(mechanism, x)
                                   : "no equilibrium found")
           << " [" << summary.Message() << "]\n";
@@ -83,6 +108,13 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
   }
   if (!options.output_path.empty()) {
     WriteCommandOutput(options.output_path, table.text(), out);
+  }
+  if (outside > 0) {
+    spdlog::warn(
+        "{} of {} configurations lie beyond the range the constants were "
+        "characterised over ({}): the model extrapolates there{}",
+        outside, rows.size(), first_outside,
+        options.output_path.empty() ? "" : "; their rows have in_range = 0");
   }
   if (not_converged > 0) {
     spdlog::warn(

@@ -12,9 +12,10 @@ namespace softbench {
 // `softbench predict`: equilibrium head positions for listed pressures.
 struct PredictOptions {
   ModelSelection model;
-  std::string input_path;   // CSV with columns p1..pN
-  std::string output_path;  // predictions CSV ("-": standard output)
-  std::string pressures;    // "6,6,0": one configuration, printed for people
+  std::string input_path;      // CSV with columns p1..pN
+  std::string output_path;     // predictions CSV ("-": standard output)
+  std::string pressures;       // "6,6,0": one configuration, printed for people
+  bool decimal_comma = false;  // the CSV writes 6,5 (declared, not guessed)
 };
 
 // Adds the command's flags to `command`, bound to `options`.

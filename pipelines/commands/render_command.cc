@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
 #include "pipelines/commands/render_flags.h"
 #include "pipelines/synthetic/render_video.h"
@@ -17,9 +18,9 @@ namespace softbench {
 namespace fs = std::filesystem;
 // One flag per line, each with its help: a long list, not a long algorithm.
 void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
-  c->add_option("--plan", options->plan_path, "test plan YAML")->required();
-  c->add_option("--output", options->output_path,
-                "video to write (.mp4, or .mov for QuickTime)")
+  AddPlanOption(c, &options->plan_path);
+  AddOutOption(c, &options->output_path,
+               "video to write (.mp4, or .mov for QuickTime)")
       ->required();
   c->add_option("--truth", options->truth_path, "per-frame truth CSV to write")
       ->required();
@@ -227,14 +228,17 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   render.vfr_jitter = options.vfr_jitter;
   render.progress = !options.quiet;
   if (auto problem = render.Check()) throw InputError("render: " + *problem);
-  const RenderedVideo rendered = RenderVideo(plan, options.output_path, render);
-  WriteFileAtomically(options.truth_path, rendered.truth_csv);
   const fs::path video(options.output_path);
   const std::string plan_out =
       options.plan_out_path.empty()
           ? (video.parent_path() / (video.stem().string() + ".plan.yaml"))
                 .string()
           : options.plan_out_path;
+  CheckOutputFile(options.output_path, "--out");
+  CheckOutputFile(options.truth_path, "--truth");
+  CheckOutputFile(plan_out, "--plan-out");
+  const RenderedVideo rendered = RenderVideo(plan, options.output_path, render);
+  WriteFileAtomically(options.truth_path, rendered.truth_csv);
   const fs::path plan_dir = fs::path(plan_out).parent_path();
   WriteFileAtomically(
       plan_out, TestPlanToYaml(rendered.plan,

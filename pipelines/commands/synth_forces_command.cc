@@ -1,10 +1,14 @@
 #include "pipelines/commands/synth_forces_command.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <vector>
 
 #include "model/units.h"
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
 #include "pipelines/commands/model_selection.h"
 #include "pipelines/synthetic/force_logs.h"
@@ -13,9 +17,8 @@
 namespace softbench {
 void AddSynthForcesCommand(CLI::App* command,
                            SynthForcesCommandOptions* options) {
-  command
-      ->add_option("--output", options->output_directory,
-                   "directory for the logs and manifest.yaml")
+  AddOutOption(command, &options->output_directory,
+               "directory for the logs and manifest.yaml (replaced whole)")
       ->required();
   command->add_option("--constants", options->constants_path,
                       "the true constants (default: the thesis's)");
@@ -44,9 +47,41 @@ void AddSynthForcesCommand(CLI::App* command,
       ->add_option("--outlier-fraction", s.outlier_fraction,
                    "fraction of rows replaced by gross outliers")
       ->capture_default_str();
-  command->add_option("--threads", options->threads, "worker threads (0: all)")
-      ->capture_default_str();
+  AddThreadsOption(command, &options->threads);
 }
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// "1.5 GB", "820 MB", "96 kB" (decimal units, as file managers show).
+std::string ByteCount(int64_t bytes) {
+  const double b = static_cast<double>(bytes);
+  if (b >= 1e9) return fmt::format("{:.1f} GB", b / 1e9);
+  if (b >= 1e6) return fmt::format("{:.0f} MB", b / 1e6);
+  return fmt::format("{:.0f} kB", std::max(1.0, b / 1e3));
+}
+
+// The logs are written beside the output folder and swapped in: its parent's
+// file system must hold them (the previous logs stay until the swap).
+void CheckFreeSpace(const std::string& directory, int64_t bytes) {
+  fs::path parent = fs::path(directory).parent_path();
+  if (parent.empty()) parent = ".";
+  std::error_code error;
+  const fs::space_info space = fs::space(parent, error);
+  if (error) return;  // CheckOutputDirectory named an unusable folder
+  // A margin for the file system's blocks and the estimate's few per cent.
+  if (static_cast<double>(bytes) * 1.05 >
+      static_cast<double>(space.available)) {
+    throw InputError(fmt::format(
+        "--out {}: the logs need about {} and its disk has {} free; choose "
+        "another folder or a lower --rate",
+        directory, ByteCount(bytes),
+        ByteCount(static_cast<int64_t>(space.available))));
+  }
+}
+
+}  // namespace
 
 int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
   SyntheticForceLogsOptions logs;
@@ -70,6 +105,7 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
     logs.synthetic.hysteresis_shear_n = h[1];
   }
   MpaPerPressureUnitFlag(options.pressure_unit);  // names the flag
+  CheckOutputDirectory(options.output_directory, "--out");
   if (options.threads < 0) throw InputError("--threads: must be >= 0");
   logs.pressure_unit = options.pressure_unit;
   logs.model_name = variant;
@@ -78,6 +114,14 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
   logs.progress = !options.quiet;
   if (const std::optional<std::string> problem = logs.Check()) {
     throw InputError("synth-forces: " + *problem);
+  }
+  // Said, and checked against the disk, before writing: at the sensor's
+  // 5.7 kHz the protocol is over a gigabyte.
+  const SyntheticForceLogsSize size = EstimateSyntheticForceLogs(logs);
+  CheckFreeSpace(options.output_directory, size.bytes);
+  if (!options.quiet) {
+    spdlog::info("writing {} tests, {} rows, about {}, to {}", size.tests,
+                 size.rows, ByteCount(size.bytes), options.output_directory);
   }
   const SyntheticForceLogs written =
       WriteSyntheticForceLogs(options.output_directory, logs);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/formats/test_plan.h"
 #include "pipelines/measurement/video_measurement.h"
 #include "pipelines/reports/validation_files.h"
@@ -12,22 +13,18 @@
 namespace softbench {
 
 void AddTrackCommand(CLI::App* c, TrackCommandOptions* options) {
-  c->add_option("--plan", options->plan_path, "test plan YAML")->required();
-  c->add_option("--video", options->video_path, "bench video")->required();
-  c->add_option("--output", options->output_path, "trajectory CSV to write")
-      ->required();
-  c->add_option("--rest-s", options->rest_s,
-                "seconds of rest at the start, when the plan has no times")
-      ->capture_default_str();
-  c->add_flag("--no-registration", options->no_registration,
-              "take the camera to be still instead of registering every "
-              "frame to the bench");
+  c->add_option("video", options->video_path, "bench video")->required();
+  AddPlanOption(c, &options->plan_path);
+  AddOutOption(c, &options->output_path, "trajectory CSV to write")->required();
+  AddRestOption(c, &options->rest_s);
+  AddNoRegistrationFlag(c, &options->no_registration);
   c->add_flag("--full-frame", options->full_frame,
               "search the whole image in every frame (slow; for checks)");
 }
 
 int RunTrack(const TrackCommandOptions& options, std::ostream& out) {
   const TestPlan plan = LoadTestPlan(options.plan_path);
+  CheckOutputFile(options.output_path, "--out");
   VideoMeasurementOptions measure;
   if (!(options.rest_s > 0.0)) throw InputError("--rest-s: must be > 0");
   measure.rest_s = options.rest_s;

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
 #include "pipelines/formats/dot_colors.h"
 #include "util/atomic_file.h"
@@ -38,8 +39,8 @@ void AddTuneCommand(CLI::App* c, TuneCommandOptions* options) {
                 "h_lo,h_hi,s_lo,s_hi,v_lo,v_hi");
   c->add_option("--dot-radius-px", options->dot_radius_px,
                 "expected dot radius (default: from the blobs)");
-  c->add_option("--output-dir", options->output_dir,
-                "folder for the frame, mask and overlay PNGs")
+  AddOutOption(c, &options->output_dir,
+               "folder for the frame, mask and overlay PNGs")
       ->capture_default_str();
 }
 
@@ -79,7 +80,7 @@ int RunTune(const TuneCommandOptions& options, std::ostream& out) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) {
-    throw InputError("--output-dir: cannot create " + dir.string() + " (" +
+    throw InputError("--out: cannot create " + dir.string() + " (" +
                      error.message() + ")");
   }
   const std::string stem =

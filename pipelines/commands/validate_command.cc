@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "model/actuator_model.h"
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_selection.h"
 #include "pipelines/reports/validation_files.h"
 #include "util/atomic_file.h"
@@ -32,8 +33,10 @@ TestPlan LoadValidationPlan(const ValidateCommandOptions& options,
         nullptr);
   }
   if (!options.pressure_log_path.empty()) {
-    *log = PressureLogTimes{options.pressure_log_path,
-                            PlanPressureHolds(plan, options.pressure_log_path)};
+    *log = PressureLogTimes{
+        options.pressure_log_path,
+        PlanPressureHolds(plan, options.pressure_log_path,
+                          DecimalMarkFromFlag(options.decimal_comma))};
   }
   return plan;
 }
@@ -46,6 +49,17 @@ std::string SummaryText(const VideoValidation& v) {
                   v.measurement.video_path, r.tests.size(), r.times_source,
                   std::count_if(r.tests.begin(), r.tests.end(),
                                 [](const TestScore& t) { return t.measured; }));
+  if (!r.mismatched.empty()) {
+    text += fmt::format(
+        "  not scored, their motion does not fit their plan entries: {}\n",
+        fmt::join(r.mismatched, ", "));
+  }
+  if (!v.plan.skipped_tests.empty()) {
+    std::vector<std::string> ids;
+    for (const PlanTest& t : v.plan.skipped_tests) ids.push_back(t.id);
+    text += fmt::format("  skipped on the bench (as the plan says): {}\n",
+                        fmt::join(ids, ", "));
+  }
   for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
     text += fmt::format(
         "  {}: model error mean {:.4f} mm (max {:.4f}), baseline {:.4f} mm "
@@ -72,20 +86,19 @@ void AddValidateCommand(CLI::App* c, ValidateCommandOptions* options) {
   c->add_option("--jobs", options->jobs,
                 "videos measured at once (0: one per core)")
       ->capture_default_str();
-  c->add_option("--plan", options->plan_path, "test plan YAML")->required();
-  c->add_option("--out", options->output_directory, "report directory")
+  AddPlanOption(c, &options->plan_path);
+  AddOutOption(c, &options->output_directory,
+               "report directory (replaced whole)")
       ->required();
   c->add_option("--constants", options->constants_path,
                 "actuator constants (default: the plan's)");
   c->add_option("--pressure-log", options->pressure_log_path,
-                "the regulator's log (time_s,p1..pN): test times from it, "
+                "the regulator's log (time_s,p1_UNIT..pN_UNIT, or plain pN in "
+                "the plan's unit): test times from it, "
                 "its clock aligned by the motion");
-  c->add_option("--rest-s", options->rest_s,
-                "plan without times: seconds at rest at the video's start")
-      ->capture_default_str();
-  c->add_flag("--no-registration", options->no_registration,
-              "take the camera to be still instead of registering every "
-              "frame to the bench (the thesis's method)");
+  AddRestOption(c, &options->rest_s);
+  AddNoRegistrationFlag(c, &options->no_registration);
+  AddDecimalCommaFlag(c, &options->decimal_comma);
   c->add_flag("--windows-only", options->windows_only,
               "read only the frames of the tests' windows, seeking between "
               "them (needs the times in the plan)");
@@ -106,6 +119,7 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   }
   std::optional<PressureLogTimes> log;
   const TestPlan plan = LoadValidationPlan(options, &log);
+  CheckOutputDirectory(options.output_directory, "--out");
   const int count = static_cast<int>(options.video_paths.size());
   std::vector<VideoValidation> videos(count);
   if (count == 1) {
@@ -158,6 +172,9 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   }
   out << fmt::format("report: {}/{}\n", options.output_directory,
                      count == 1 ? "report.html" : "index.html");
+  for (const VideoValidation& v : videos) {
+    if (!v.result.mismatched.empty()) return kExitTestsDoNotMatchPlan;
+  }
   return 0;
 }
 

@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
 #include "model/workspace.h"
 #include "pipelines/commands/command_output.h"
+#include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
 #include "pipelines/formats/prediction_table.h"
 #include "util/input_error.h"
@@ -24,12 +26,9 @@ void AddWorkspaceCommand(CLI::App* command, WorkspaceCommandOptions* options) {
       ->add_option("--step", options->step,
                    "spacing of pressure levels, in --pressure-unit")
       ->capture_default_str();
-  command
-      ->add_option("--threads", options->threads,
-                   "worker threads (0: all cores)")
-      ->capture_default_str();
-  command->add_option("--output", options->output_path,
-                      "map CSV to write ('-' for standard output)");
+  AddThreadsOption(command, &options->threads);
+  AddOutOption(command, &options->output_path,
+               "map CSV to write ('-' for standard output)");
 }
 
 namespace {
@@ -67,6 +66,10 @@ int CheckedIntervals(const WorkspaceCommandOptions& options,
 
 int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
   const ResolvedModel resolved = ResolveModel(options.model);
+  RequirePressureUnit(resolved, "--max and --step");
+  if (!options.output_path.empty()) {
+    CheckOutputFile(options.output_path, "--out");
+  }
   const int num_actuators = resolved.mechanism.NumActuators();
   const int num_intervals = CheckedIntervals(options, num_actuators);
   WorkspaceOptions workspace_options;
@@ -78,11 +81,13 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
     workspace_options.pressure_levels_mpa.push_back(level *
                                                     resolved.mpa_per_unit);
   }
+  // Where the model extrapolates: beyond the constants' characterised range.
+  workspace_options.range = resolved.range;
   const EquilibriumProblem problem(resolved.mechanism, resolved.force_model);
   const WorkspaceMap map = ComputeWorkspace(problem, workspace_options);
 
   if (!options.output_path.empty()) {
-    PredictionTable table(resolved.mechanism);
+    PredictionTable table(resolved.mechanism, resolved.pressure_unit);
     const int radix = static_cast<int>(levels.size());
     Eigen::VectorXd pressures(num_actuators);
     for (int i = 0; i < map.pressures_mpa.rows(); ++i) {
@@ -91,7 +96,7 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
         pressures[k] = levels[rest % radix];
       }
       table.AddRow(pressures, map.displacements_mm.row(i).transpose(),
-                   map.summaries[i]);
+                   map.summaries[i], map.in_range[i] != 0);
     }
     WriteCommandOutput(options.output_path, table.text(), out);
   }
@@ -107,6 +112,21 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
         "  {}: y {:.4f} .. {:.4f} mm, z {:.4f} .. {:.4f} mm\n",
         resolved.mechanism.heads[h].name, extents[h].min_mm.x(),
         extents[h].max_mm.x(), extents[h].min_mm.y(), extents[h].max_mm.y());
+  }
+  if (map.num_outside_range > 0) {
+    // The first such configuration, for the message.
+    const auto first = std::find(map.in_range.begin(), map.in_range.end(), 0);
+    const Eigen::Index i = first - map.in_range.begin();
+    const std::string first_outside =
+        OutsideCharacterisedRange(resolved.range, problem,
+                                  map.pressures_mpa.row(i).transpose(),
+                                  map.displacements_mm.row(i).transpose())
+            .value_or("");
+    spdlog::warn(
+        "{} configurations lie beyond the range the constants were "
+        "characterised over (first: {}): the model extrapolates there, and "
+        "the extents include them; rows with in_range = 0",
+        map.num_outside_range, first_outside);
   }
   if (map.num_not_converged > 0) {
     spdlog::warn(

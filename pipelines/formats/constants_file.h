@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "model/actuator_model.h"
+#include "model/characterised_range.h"
 
 namespace softbench {
 
@@ -15,6 +16,9 @@ namespace softbench {
 struct ConstantsFile {
   ActuatorConstants constants;
   std::optional<std::string> variant;  // "small-angle", "full-trig", ...
+  // The range the constants were fitted over (keys characterised_*; the
+  // thesis's protocol when absent): predictions beyond it are marked.
+  CharacterisedRange range;
 };
 
 // Parses a constants YAML document; throws InputError naming the line and

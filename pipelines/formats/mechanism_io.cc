@@ -1,7 +1,9 @@
 #include "pipelines/formats/mechanism_io.h"
 
 #include <filesystem>
+#include <functional>
 #include <map>
+#include <set>
 
 #include "model/units.h"
 #include "pipelines/formats/builtin_mechanisms.h"
@@ -10,6 +12,9 @@
 #include "util/yaml_reader.h"
 
 namespace softbench {
+
+// A mechanism of a hundred actuators is a few kilobytes.
+constexpr int64_t kMaxMechanismBytes = int64_t{1} << 20;
 
 namespace {
 
@@ -38,7 +43,7 @@ void ParseHeadsAndAnchors(const YamlReader& reader, const YAML::Node& root,
     reader.Fail(heads, "heads", "must be a non-empty list");
   }
   for (const YAML::Node& node : heads) {
-    reader.CheckKeys(node, {"name", "rest_mm"});
+    reader.CheckKeys(node, "heads entry", {"name", "rest_mm"});
     const auto rest = reader.Pair(reader.Require(node, "rest_mm"), "rest_mm");
     Head head{reader.String(reader.Require(node, "name"), "name"),
               {rest[0], rest[1]}};
@@ -50,7 +55,7 @@ void ParseHeadsAndAnchors(const YamlReader& reader, const YAML::Node& root,
     if (!anchors.IsSequence())
       reader.Fail(anchors, "anchors", "must be a list");
     for (const YAML::Node& node : anchors) {
-      reader.CheckKeys(node, {"name", "position_mm"});
+      reader.CheckKeys(node, "anchors entry", {"name", "position_mm"});
       const auto position =
           reader.Pair(reader.Require(node, "position_mm"), "position_mm");
       FixedAnchor anchor{reader.String(reader.Require(node, "name"), "name"),
@@ -64,7 +69,8 @@ void ParseHeadsAndAnchors(const YamlReader& reader, const YAML::Node& root,
 
 Actuator ParseActuator(const YamlReader& reader, const YAML::Node& node,
                        const Names& names) {
-  reader.CheckKeys(node, {"name", "rotation_deg", "anchor", "head"});
+  reader.CheckKeys(node, "actuators entry",
+                   {"name", "rotation_deg", "anchor", "head"});
   Actuator actuator;
   actuator.name = reader.String(reader.Require(node, "name"), "name");
   actuator.rotation_rad = DegToRad(
@@ -100,7 +106,7 @@ Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source) {
                      ": a mechanism file is a map with name, heads, anchors "
                      "and actuators");
   }
-  reader.CheckKeys(root,
+  reader.CheckKeys(root, "mechanism file",
                    {"name", "description", "heads", "anchors", "actuators"});
   Mechanism mechanism;
   mechanism.name = reader.String(reader.Require(root, "name"), "name");
@@ -110,8 +116,15 @@ Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source) {
   if (!actuators.IsSequence() || actuators.size() == 0) {
     reader.Fail(actuators, "actuators", "must be a non-empty list");
   }
+  std::set<std::string, std::less<>> actuator_names;
   for (const YAML::Node& node : actuators) {
     mechanism.actuators.push_back(ParseActuator(reader, node, names));
+    // Pressure columns and reports name actuators, so each name is one.
+    if (!actuator_names.insert(mechanism.actuators.back().name).second) {
+      reader.Fail(node["name"], "name",
+                  "actuator '" + mechanism.actuators.back().name +
+                      "' is named twice; rename one");
+    }
   }
   if (const std::optional<MechanismProblem> problem = mechanism.Check()) {
     // Point at the entry at fault where there is one.
@@ -142,13 +155,17 @@ Mechanism LoadMechanism(const std::string& name_or_path) {
     }
     names += "'" + std::string(builtin.name) + "', ";
   }
-  if (!std::filesystem::is_regular_file(name_or_path)) {
+  // The error_code form: a name the file system refuses (too long, say) is
+  // the same user error as a missing file, not an exception of its own.
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(name_or_path, error)) {
     throw InputError("mechanism '" + name_or_path +
                      "': no such mechanism; give " + names +
                      "or the path of a mechanism YAML file");
   }
-  return ParseMechanismYaml(ReadTextFile(name_or_path, "mechanism file"),
-                            name_or_path);
+  return ParseMechanismYaml(
+      ReadTextFile(name_or_path, "mechanism file", kMaxMechanismBytes),
+      name_or_path);
 }
 
 }  // namespace softbench

@@ -10,17 +10,20 @@
 namespace softbench {
 
 // The CSV written by `predict` and `workspace` (README, command-line
-// contract): p1..pN, then y1_mm,z1_mm per head in the mechanism's head order,
-// then converged (0/1) and residual_n. Positions of a configuration that did
-// not converge are written as nan, never as numbers.
+// contract): p1_UNIT..pN_UNIT, then y1_mm,z1_mm per head in the mechanism's
+// head order, then converged (0/1), residual_n and in_range (0 where a
+// pressure or an actuator's deformation lies beyond the range the constants
+// were characterised over: the model extrapolates there). Positions of a
+// configuration that did not converge are written as nan, never as numbers.
 class PredictionTable {
  public:
-  explicit PredictionTable(const Mechanism& mechanism);
+  // `pressure_unit` names the pressure columns' unit (p1_psi).
+  PredictionTable(const Mechanism& mechanism, std::string_view pressure_unit);
 
   // Pressures are written in the caller's unit, as given.
   void AddRow(const Eigen::VectorXd& pressures_in_unit,
               const Eigen::VectorXd& displacements_mm,
-              const EquilibriumSummary& summary);
+              const EquilibriumSummary& summary, bool in_range);
   const std::string& text() const { return text_; }
 
  private:

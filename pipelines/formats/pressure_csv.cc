@@ -4,75 +4,139 @@
 
 #include <cmath>
 
+#include "model/units.h"
 #include "util/csv.h"
 #include "util/input_error.h"
 
 namespace softbench {
+namespace {
 
-std::vector<Eigen::VectorXd> ReadPressureRows(const std::string& path,
-                                              int num_actuators,
-                                              std::vector<double>* times_s) {
-  CsvReader reader(path);
-  std::vector<int> columns;
-  for (int a = 1; a <= num_actuators; ++a) {
-    const int column = reader.ColumnIndex(fmt::format("p{}", a));
+// The pressure columns' indices and the unit their names state ("" when
+// they are plain p1..pN).
+struct PressureColumns {
+  std::vector<int> indices;
+  std::string unit;
+};
+
+// Column pA of `reader`'s header, plain or with a unit suffix; -1 if absent.
+int FindPressureColumn(const CsvReader& reader, int a, std::string* unit) {
+  const int plain = reader.ColumnIndex(fmt::format("p{}", a));
+  if (plain >= 0) {
+    *unit = "";
+    return plain;
+  }
+  for (const PressureUnit& candidate : kPressureUnits) {
+    const int column =
+        reader.ColumnIndex(fmt::format("p{}_{}", a, candidate.name));
+    if (column >= 0) {
+      *unit = candidate.name;
+      return column;
+    }
+  }
+  return -1;
+}
+
+PressureColumns FindPressureColumns(const CsvReader& reader, int n) {
+  const std::string& path = reader.path();
+  PressureColumns columns;
+  for (int a = 1; a <= n; ++a) {
+    std::string unit;
+    const int column = FindPressureColumn(reader, a, &unit);
     if (column < 0) {
       throw InputError(fmt::format(
           "{}:1: column p{} is missing; the mechanism has {} actuators, so "
-          "give columns p1..p{}",
-          path, a, num_actuators, num_actuators));
+          "give columns p1..p{} (with their unit, e.g. p1_psi)",
+          path, a, n, n));
     }
-    columns.push_back(column);
+    if (a > 1 && unit != columns.unit) {
+      throw InputError(fmt::format(
+          "{}:1: column p{} is in '{}' but p1 in '{}'; give every pressure "
+          "column the same unit",
+          path, a, unit, columns.unit));
+    }
+    columns.unit = unit;
+    columns.indices.push_back(column);
   }
-  if (reader.ColumnIndex(fmt::format("p{}", num_actuators + 1)) >= 0) {
+  std::string unit;
+  if (FindPressureColumn(reader, n + 1, &unit) >= 0) {
     throw InputError(fmt::format(
         "{}:1: column p{} is one too many; the mechanism has {} actuators",
-        path, num_actuators + 1, num_actuators));
+        path, n + 1, n));
   }
+  return columns;
+}
+
+double ReadPressure(const CsvReader& reader, std::string_view field, int a) {
+  const std::optional<double> value = ParseDouble(field);
+  if (!value || !std::isfinite(*value)) {
+    throw InputError(fmt::format("{}column p{}: '{}' is not a number",
+                                 reader.Where(), a, field));
+  }
+  if (*value < 0.0) {
+    throw InputError(fmt::format(
+        "{}column p{}: {} is negative; pressures are gauge pressures >= 0",
+        reader.Where(), a, *value));
+  }
+  return *value;
+}
+
+}  // namespace
+
+PressureRows ReadPressureRows(const std::string& path,
+                              const PressureCsvOptions& options) {
+  CsvReader reader(path, options.decimal_mark);
+  const PressureColumns columns =
+      FindPressureColumns(reader, options.num_actuators);
+  if (columns.unit.empty() && !options.stated_unit) {
+    throw InputError(fmt::format(
+        "{}:1: the pressure columns do not say their unit; name them "
+        "p1_psi, p1_kpa or p1_mpa ...{}",
+        path, options.how_to_state.empty() ? "" : ", " + options.how_to_state));
+  }
+  PressureRows result;
+  result.unit = options.stated_unit.value_or(columns.unit);
+  const std::optional<double> mpa_per_unit = MpaPerPressureUnit(result.unit);
+  const std::optional<double> file_mpa_per_unit =
+      MpaPerPressureUnit(columns.unit.empty() ? result.unit : columns.unit);
+  if (!mpa_per_unit || !file_mpa_per_unit) {
+    throw InputError(fmt::format("{}: '{}' is not a pressure unit; use {}",
+                                 path, result.unit, PressureUnitNames()));
+  }
+  result.mpa_per_unit = *mpa_per_unit;
+  const double to_unit = *file_mpa_per_unit / *mpa_per_unit;
   const int time_column = reader.ColumnIndex("time_s");
-  if (times_s != nullptr && time_column < 0) {
+  if (options.with_times && time_column < 0) {
     throw InputError(path +
                      ":1: column time_s is missing; a pressure log "
-                     "has columns time_s,p1..pN");
+                     "has columns time_s,p1_UNIT..pN_UNIT");
   }
-  std::vector<Eigen::VectorXd> rows;
   std::vector<std::string_view> fields;
   while (reader.ReadRow(&fields)) {
-    if (times_s != nullptr) {
+    if (options.with_times) {
       const std::optional<double> t = ParseDouble(fields[time_column]);
       if (!t || !std::isfinite(*t)) {
         throw InputError(fmt::format("{}time_s: '{}' is not a number",
                                      reader.Where(), fields[time_column]));
       }
-      if (!times_s->empty() && *t < times_s->back()) {
+      if (!result.times_s.empty() && *t < result.times_s.back()) {
         throw InputError(fmt::format(
             "{}time_s {} is before the previous row's {}; sort the log by "
             "time",
-            reader.Where(), *t, times_s->back()));
+            reader.Where(), *t, result.times_s.back()));
       }
-      times_s->push_back(*t);
+      result.times_s.push_back(*t);
     }
-    Eigen::VectorXd pressures(num_actuators);
-    for (int a = 0; a < num_actuators; ++a) {
-      const std::string_view field = fields[columns[a]];
-      const std::optional<double> value = ParseDouble(field);
-      if (!value || !std::isfinite(*value)) {
-        throw InputError(fmt::format("{}column p{}: '{}' is not a number",
-                                     reader.Where(), a + 1, field));
-      }
-      if (*value < 0.0) {
-        throw InputError(fmt::format(
-            "{}column p{}: {} is negative; pressures are gauge pressures >= 0",
-            reader.Where(), a + 1, *value));
-      }
-      pressures[a] = *value;
+    Eigen::VectorXd pressures(options.num_actuators);
+    for (int a = 0; a < options.num_actuators; ++a) {
+      pressures[a] =
+          ReadPressure(reader, fields[columns.indices[a]], a + 1) * to_unit;
     }
-    rows.push_back(pressures);
+    result.rows.push_back(pressures);
   }
-  if (rows.empty()) {
+  if (result.rows.empty()) {
     throw InputError(path + ": no pressure rows; add at least one row");
   }
-  return rows;
+  return result;
 }
 
 }  // namespace softbench

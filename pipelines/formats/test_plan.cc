@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <numbers>
+#include <set>
 
 #include "model/units.h"
 #include "pipelines/formats/constants_file.h"
@@ -18,6 +19,9 @@
 #include "util/yaml_reader.h"
 
 namespace softbench {
+
+// Ten thousand test points are under 1 MB.
+constexpr int64_t kMaxPlanBytes = int64_t{4} << 20;
 namespace {
 
 namespace fs = std::filesystem;
@@ -53,7 +57,7 @@ double Positive(const YamlReader& reader, const YAML::Node& node,
 void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
                       TestPlan* plan) {
   reader.CheckKeys(
-      node,
+      node, "calibration",
       {"tag", "plane_offset_mm", "intrinsics", "focal_length_35mm", "mm_per_px",
        "image_rotation_deg", "scale_from_dots", "distortion_tolerance"});
   CalibrationSpec& c = plan->calibration;
@@ -81,7 +85,7 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
         Resolve(plan->path, reader.String(intrinsics, "intrinsics"));
   }
   if (const YAML::Node tag_node = node["tag"]) {
-    reader.CheckKeys(tag_node, {"family", "id", "size_mm", "center_mm"});
+    reader.CheckKeys(tag_node, "tag", {"family", "id", "size_mm", "center_mm"});
     TagSpec tag;
     if (const YAML::Node family = tag_node["family"]) {
       tag.family = reader.String(family, "family");
@@ -147,8 +151,9 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
   if (!node.IsSequence()) reader.Fail(node, "markers", "must be a list");
   std::vector<bool> seen(plan->mechanism.NumHeads(), false);
   for (const YAML::Node& entry : node) {
-    reader.CheckKeys(entry, {"head", "color", "dots", "dot_diameter_mm",
-                             "layout_mm", "hsv"});
+    reader.CheckKeys(
+        entry, "markers entry",
+        {"head", "color", "dots", "dot_diameter_mm", "layout_mm", "hsv"});
     MarkerSpec marker;
     const YAML::Node head = reader.Require(entry, "head");
     const std::string head_name = reader.String(head, "head");
@@ -207,11 +212,21 @@ void ParseTests(const YamlReader& reader, const YAML::Node& node,
     reader.Fail(node, "tests", "must be a non-empty list");
   }
   const int n = plan->mechanism.NumActuators();
+  std::set<std::string, std::less<>> ids;
   for (const YAML::Node& entry : node) {
-    reader.CheckKeys(entry, {"id", "pressures", "actuate_s", "release_s",
-                             "residual_offset_mm"});
+    reader.CheckKeys(entry, "tests entry",
+                     {"id", "pressures", "actuate_s", "release_s",
+                      "residual_offset_mm", "skipped"});
     PlanTest test;
-    test.id = reader.String(reader.Require(entry, "id"), "id");
+    const YAML::Node id = reader.Require(entry, "id");
+    test.id = reader.String(id, "id");
+    if (!ids.insert(test.id).second) {
+      reader.Fail(id, "id",
+                  "'" + test.id +
+                      "' is used twice; give each test its own id (a test "
+                      "done again on the bench gets a new entry, e.g. '" +
+                      test.id + "-repeat')");
+    }
     const YAML::Node pressures = reader.Require(entry, "pressures");
     if (!pressures.IsSequence() || static_cast<int>(pressures.size()) != n) {
       reader.Fail(pressures, "pressures",
@@ -245,7 +260,20 @@ void ParseTests(const YamlReader& reader, const YAML::Node& node,
       const auto pair = reader.Pair(offset, "residual_offset_mm");
       test.residual_offset_mm = {pair[0], pair[1]};
     }
+    const YAML::Node skipped = entry["skipped"];
+    if (skipped && reader.Bool(skipped, "skipped")) {
+      if (actuate) {
+        reader.Fail(actuate, "actuate_s",
+                    "a skipped test has no times; remove them or the "
+                    "skipped key");
+      }
+      plan->skipped_tests.push_back(std::move(test));
+      continue;
+    }
     plan->tests.push_back(std::move(test));
+  }
+  if (plan->tests.empty()) {
+    reader.Fail(node, "tests", "every test is skipped; keep at least one");
   }
   const bool any = std::any_of(plan->tests.begin(), plan->tests.end(),
                                [](const PlanTest& t) { return t.actuate_s; });
@@ -258,9 +286,10 @@ void ParseTests(const YamlReader& reader, const YAML::Node& node,
 
 void ParseScene(const YamlReader& reader, const YAML::Node& node,
                 SceneSpec* scene) {
-  reader.CheckKeys(node, {"settle_time_constant_s", "creep_fraction",
-                          "creep_time_constant_s", "head_side_mm", "lead_in_s",
-                          "hold_s", "rest_s"});
+  reader.CheckKeys(
+      node, "scene",
+      {"settle_time_constant_s", "creep_fraction", "creep_time_constant_s",
+       "head_side_mm", "lead_in_s", "hold_s", "rest_s"});
   const auto set = [&](const char* key, double* value, bool positive) {
     if (const YAML::Node v = node[key]) {
       *value =
@@ -366,6 +395,7 @@ void ParseModel(const YamlReader& reader, const YAML::Node& root,
         "'" + variant + "' is not a variant; use " + ModelVariantNames());
   }
   plan.force_model = *model;
+  plan.range = constants.range;
 }
 
 void ParsePressureUnit(const YamlReader& reader, const YAML::Node& root,
@@ -411,9 +441,10 @@ TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
   const YamlReader reader(path);
   const YAML::Node root = reader.Parse(yaml);
   if (!root.IsMap()) throw InputError(path + ": a test plan is a YAML map");
-  reader.CheckKeys(root, {"mechanism", "constants", "variant", "pressure_unit",
-                          "calibration", "markers", "windows",
-                          "hysteresis_tolerance_mm", "tests", "scene"});
+  reader.CheckKeys(
+      root, "test plan",
+      {"mechanism", "constants", "variant", "pressure_unit", "calibration",
+       "markers", "windows", "hysteresis_tolerance_mm", "tests", "scene"});
   TestPlan plan;
   plan.path = path;
   ParseModel(reader, root, path, &plan);
@@ -428,7 +459,7 @@ TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
   }
   ParseOrDefaultMarkers(reader, root, &plan);
   if (const YAML::Node windows = root["windows"]) {
-    reader.CheckKeys(windows, {"length_s"});
+    reader.CheckKeys(windows, "windows", {"length_s"});
     if (const YAML::Node length = windows["length_s"]) {
       plan.window_s = Positive(reader, length, "length_s");
     }
@@ -442,7 +473,7 @@ TestPlan ParseTestPlan(std::string_view yaml, const std::string& path) {
 }
 
 TestPlan LoadTestPlan(const std::string& path) {
-  return ParseTestPlan(ReadTextFile(path, "test plan"), path);
+  return ParseTestPlan(ReadTextFile(path, "test plan", kMaxPlanBytes), path);
 }
 
 namespace {
@@ -536,27 +567,33 @@ void EmitScene(const TestPlan& plan, YAML::Emitter* emitter) {
   out << YAML::EndMap;
 }
 
+// One test entry: id and pressures, then what else it has.
+void EmitTest(const PlanTest& t, bool skipped, YAML::Emitter* emitter) {
+  YAML::Emitter& out = *emitter;
+  out << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "id" << YAML::Value << t.id;
+  out << YAML::Key << "pressures" << YAML::Value << YAML::Flow
+      << YAML::BeginSeq;
+  for (double p : t.pressures) out << p;
+  out << YAML::EndSeq;
+  if (skipped) out << YAML::Key << "skipped" << YAML::Value << true;
+  if (t.actuate_s) {
+    out << YAML::Key << "actuate_s" << YAML::Value << *t.actuate_s;
+    out << YAML::Key << "release_s" << YAML::Value << *t.release_s;
+  }
+  if (!t.residual_offset_mm.isZero()) {
+    out << YAML::Key << "residual_offset_mm" << YAML::Value << YAML::Flow
+        << YAML::BeginSeq << t.residual_offset_mm.x()
+        << t.residual_offset_mm.y() << YAML::EndSeq;
+  }
+  out << YAML::EndMap;
+}
+
 void EmitTests(const TestPlan& plan, YAML::Emitter* emitter) {
   YAML::Emitter& out = *emitter;
   out << YAML::Key << "tests" << YAML::Value << YAML::BeginSeq;
-  for (const PlanTest& t : plan.tests) {
-    out << YAML::Flow << YAML::BeginMap;
-    out << YAML::Key << "id" << YAML::Value << t.id;
-    out << YAML::Key << "pressures" << YAML::Value << YAML::Flow
-        << YAML::BeginSeq;
-    for (double p : t.pressures) out << p;
-    out << YAML::EndSeq;
-    if (t.actuate_s) {
-      out << YAML::Key << "actuate_s" << YAML::Value << *t.actuate_s;
-      out << YAML::Key << "release_s" << YAML::Value << *t.release_s;
-    }
-    if (!t.residual_offset_mm.isZero()) {
-      out << YAML::Key << "residual_offset_mm" << YAML::Value << YAML::Flow
-          << YAML::BeginSeq << t.residual_offset_mm.x()
-          << t.residual_offset_mm.y() << YAML::EndSeq;
-    }
-    out << YAML::EndMap;
-  }
+  for (const PlanTest& t : plan.skipped_tests) EmitTest(t, true, emitter);
+  for (const PlanTest& t : plan.tests) EmitTest(t, false, emitter);
   out << YAML::EndSeq;
 }
 
@@ -565,7 +602,15 @@ void EmitTests(const TestPlan& plan, YAML::Emitter* emitter) {
 std::string TestPlanToYaml(const TestPlan& plan,
                            const std::string& output_dir) {
   const RelativeTo relative = [&](const std::string& file) {
-    return fs::relative(fs::absolute(file), fs::absolute(output_dir)).string();
+    // A path the file system cannot relate (too long, say) stays absolute:
+    // still right, only longer.
+    std::error_code error;
+    const fs::path absolute = fs::absolute(file, error);
+    if (error) return file;
+    const fs::path base = fs::absolute(output_dir, error);
+    if (error) return absolute.string();
+    const fs::path relative = fs::relative(absolute, base, error);
+    return error || relative.empty() ? absolute.string() : relative.string();
   };
   YAML::Emitter out;
   out.SetDoublePrecision(10);

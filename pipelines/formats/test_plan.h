@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "model/actuator_model.h"
+#include "model/characterised_range.h"
 #include "model/mechanism.h"
 
 namespace softbench {
@@ -90,11 +91,16 @@ struct TestPlan {
   std::string constants_path;  // resolved file; empty: the thesis's
   Mechanism mechanism;
   ForceModel force_model;
+  // Where the constants hold (their file's, else the thesis's protocol).
+  CharacterisedRange range;
   std::string pressure_unit = "psi";
   double mpa_per_unit = 0.0;
   CalibrationSpec calibration;
   std::vector<MarkerSpec> markers;  // one per head, in head order
-  std::vector<PlanTest> tests;
+  std::vector<PlanTest> tests;      // the tests the bench performed, in order
+  // Entries marked `skipped: true`: listed in the protocol but not done on
+  // the bench (no motion expected; reported as skipped, never scored).
+  std::vector<PlanTest> skipped_tests;
   double window_s = 1.0;
   double hysteresis_tolerance_mm = 0.05;
   SceneSpec scene;

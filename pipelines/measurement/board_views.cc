@@ -17,7 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 
 void AddView(const cv::Mat& gray, const std::string& where,
-             const BoardOptions& board, BoardViews* views) {
+             const std::string& name, const BoardOptions& board,
+             BoardViews* views) {
   if (views->size.empty()) views->size = gray.size();
   if (gray.size() != views->size) {
     throw InputError(fmt::format(
@@ -27,7 +28,12 @@ void AddView(const cv::Mat& gray, const std::string& where,
   }
   ++views->looked_at;
   std::vector<cv::Point2f> corners = FindBoardCorners(gray, board);
-  if (!corners.empty()) views->corners.push_back(std::move(corners));
+  if (corners.empty()) {
+    views->missed.push_back(name);
+    return;
+  }
+  views->corners.push_back(std::move(corners));
+  views->names.push_back(name);
 }
 
 }  // namespace
@@ -54,7 +60,7 @@ BoardViews BoardViewsFromVideo(const std::string& video_path,
     if (frame.time_s + 1e-9 < next_s) continue;
     next_s = frame.time_s + options.every_s;
     AddView(frame.luma, fmt::format("{} at t = {:.3f} s", source, frame.time_s),
-            options.board, &views);
+            fmt::format("t = {:.3f} s", frame.time_s), options.board, &views);
   }
   progress.Finish();
   return views;
@@ -84,7 +90,8 @@ BoardViews BoardViewsFromImages(const std::string& directory,
       throw InputError(file.string() +
                        ": not a readable image; remove it or re-export it");
     }
-    AddView(gray, file.string(), options.board, &views);
+    AddView(gray, file.string(), file.filename().string(), options.board,
+            &views);
   }
   return views;
 }

@@ -23,8 +23,10 @@ struct BoardViewsOptions {
 
 struct BoardViews {
   std::vector<std::vector<cv::Point2f>> corners;  // per view with a board
-  cv::Size size;                                  // every view's image size
-  int looked_at = 0;  // views looked at, with a board or not
+  std::vector<std::string> names;   // of those views: a file, or a time
+  std::vector<std::string> missed;  // the views without the whole board
+  cv::Size size;                    // every view's image size
+  int looked_at = 0;                // views looked at, with a board or not
 };
 
 // Throws InputError when a view cannot be read or differs in size.

@@ -114,8 +114,19 @@ PlaneMapping PlanMapping(
     const std::array<Eigen::Vector2d, 4> corners =
         TagCornersFromVideo(plan, reader, tag_frames);
     if (tag_corners != nullptr) *tag_corners = corners;
-    return PlaneMapping::FromTag(intrinsics, corners, c.tag->size_mm,
-                                 c.plane_offset_mm);
+    PlaneMapping mapping = PlaneMapping::FromTag(
+        intrinsics, corners, c.tag->size_mm, c.plane_offset_mm);
+    // A plane at or beyond the camera maps pixels to numbers that mean
+    // nothing (the homography turns them through infinity).
+    const double camera_height_mm = mapping.CameraHeightMm();
+    if (!(c.plane_offset_mm < camera_height_mm)) {
+      throw InputError(fmt::format(
+          "{}: calibration.plane_offset_mm: {} mm puts the dots' plane at "
+          "or behind the camera, which the tag in {} places {:.0f} mm above "
+          "the tag; give the dots' height above the tag's plane",
+          plan.path, c.plane_offset_mm, video_path, camera_height_mm));
+    }
+    return mapping;
   }
   const double rotation = c.image_rotation_deg * std::numbers::pi / 180.0;
   if (c.mm_per_px) {

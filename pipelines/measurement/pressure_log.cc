@@ -37,11 +37,16 @@ std::vector<PressureHold> PressureLogHolds(
 }
 
 std::vector<PressureHold> PlanPressureHolds(const TestPlan& plan,
-                                            const std::string& path) {
-  std::vector<double> times_s;
-  const std::vector<Eigen::VectorXd> rows =
-      ReadPressureRows(path, plan.mechanism.NumActuators(), &times_s);
-  std::vector<PressureHold> holds = PressureLogHolds(times_s, rows, 1e-6);
+                                            const std::string& path,
+                                            DecimalMark decimal_mark) {
+  PressureCsvOptions csv;
+  csv.decimal_mark = decimal_mark;
+  csv.num_actuators = plan.mechanism.NumActuators();
+  csv.with_times = true;
+  csv.stated_unit = plan.pressure_unit;  // columns in another unit convert
+  const PressureRows log = ReadPressureRows(path, csv);
+  std::vector<PressureHold> holds =
+      PressureLogHolds(log.times_s, log.rows, 1e-6);
   if (holds.size() != plan.tests.size()) {
     throw InputError(fmt::format(
         "{}: the log holds {} sets of pressures but the plan lists {} "
@@ -50,8 +55,12 @@ std::vector<PressureHold> PlanPressureHolds(const TestPlan& plan,
   }
   for (size_t i = 0; i < holds.size(); ++i) {
     const PressureHold& hold = holds[i];
+    // A log in another unit than the plan's is converted: compare to the
+    // rounding of its digits, not exactly.
+    const double tolerance =
+        1e-4 * std::max(1.0, plan.tests[i].pressures.cwiseAbs().maxCoeff());
     if ((hold.pressures - plan.tests[i].pressures).cwiseAbs().maxCoeff() >
-        1e-6) {
+        tolerance) {
       throw InputError(fmt::format(
           "{}: hold {} (from t = {} s) is ({}) but plan test '{}' is ({}); "
           "the plan's tests must follow the log's order",

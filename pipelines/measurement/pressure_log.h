@@ -7,6 +7,7 @@
 
 #include "pipelines/formats/test_plan.h"
 #include "pipelines/measurement/test_point_detection.h"
+#include "util/csv.h"
 
 namespace softbench {
 
@@ -34,9 +35,11 @@ struct PressureLogAlignment {
 };
 // The holds of the pressure log at `path` (time_s, p1..pN in the plan's
 // unit), one per plan test and in its order; throws InputError naming the
-// log, the hold and the test when they disagree.
+// log, the hold and the test when they disagree. `decimal_mark` is the
+// log's, as the user declared it.
 std::vector<PressureHold> PlanPressureHolds(const TestPlan& plan,
-                                            const std::string& path);
+                                            const std::string& path,
+                                            DecimalMark decimal_mark);
 
 PressureLogAlignment AlignPressureLog(const std::vector<PressureHold>& holds,
                                       const TestPointDetection& detection);

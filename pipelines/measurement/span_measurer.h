@@ -110,6 +110,16 @@ class SpanMeasurer {
       FrameSample sample;
       sample.frame = frame.index;
       sample.time_s = frame.time_s;
+      if (frame.damaged) {  // concealed pixels are never measured
+        sample.damaged = true;
+        sample.registered = false;
+        FillUnmeasured("damaged video data", &sample);
+        ++damaged_frames_;
+        frames_.push_back(std::move(sample));
+        ++*frames_done_;
+        poll();
+        continue;
+      }
       if (!Register(frame, &sample)) {
         frames_.push_back(std::move(sample));
         ++*frames_done_;
@@ -153,6 +163,11 @@ class SpanMeasurer {
     m->rejected_blobs += rejected_blobs_;
     m->full_frame_frames += full_frame_frames_;
     m->unregistered_frames += unregistered_frames_;
+    m->damaged_frames += damaged_frames_;
+    for (const VideoReader::DamagedFrame& d : reader_->damaged_frames()) {
+      if (d.lost) m->lost_frame_times_s.push_back(d.time_s);
+    }
+    std::sort(m->lost_frame_times_s.begin(), m->lost_frame_times_s.end());
     if (m->unregistered_reason.empty()) {
       m->unregistered_reason = unregistered_reason_;
     }
@@ -175,18 +190,22 @@ class SpanMeasurer {
       }
       ++unregistered_frames_;
       if (unregistered_reason_.empty()) unregistered_reason_ = r.why_not;
-      for (const MarkerSpec& marker : plan_->markers) {
-        sample->heads.push_back(
-            {Unmeasured(marker.dots, "frame not registered: " + r.why_not),
-             Eigen::Vector2d::Constant(std::nan("")),
-             Eigen::Vector2d::Constant(std::nan(""))});
-      }
+      FillUnmeasured("frame not registered: " + r.why_not, sample);
       return false;
     }
     sample->camera_motion = r.motion;
     tracker_.SetMapping(
         mapping_.AfterCameraMotion(r.motion.CurrentFromReference()));
     return true;
+  }
+
+  // Every head of `sample` not measured, for `why`.
+  void FillUnmeasured(const std::string& why, FrameSample* sample) const {
+    for (const MarkerSpec& marker : plan_->markers) {
+      sample->heads.push_back({Unmeasured(marker.dots, why),
+                               Eigen::Vector2d::Constant(std::nan("")),
+                               Eigen::Vector2d::Constant(std::nan(""))});
+    }
   }
 
   const TestPlan* plan_;
@@ -201,6 +220,7 @@ class SpanMeasurer {
   std::vector<FrameSnapshot> snapshots_;
   int missing_dots_ = 0, rejected_blobs_ = 0, full_frame_frames_ = 0;
   int unregistered_frames_ = 0;
+  int damaged_frames_ = 0;
   std::string unregistered_reason_;
   bool first_frame_complete_ = false;
 };

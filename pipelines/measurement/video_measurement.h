@@ -63,6 +63,9 @@ struct FrameSample {
   // stale registration). The camera's shift since the reference frames is
   // that of the content at the principal point [px]; roll clockwise [rad].
   bool registered = true;
+  // The decoder reported errors in this frame (damaged video data): its
+  // heads are not measured.
+  bool damaged = false;
   CameraMotion camera_motion;  // the camera's path (SmoothCameraPath)
   Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Zero();
   double camera_roll_rad = 0.0;
@@ -117,6 +120,10 @@ struct VideoMeasurement {
   bool registers_frames = false;
   int unregistered_frames = 0;
   std::string unregistered_reason;
+  // Frames lost to damaged video data: decoded with errors (also marked in
+  // `frames`), or listed by the container but never decoded (only here).
+  int damaged_frames = 0;
+  std::vector<double> lost_frame_times_s;  // the never-decoded ones, sorted
   DistortionCheck distortion;
 };
 

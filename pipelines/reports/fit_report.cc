@@ -10,6 +10,7 @@
 #include "model/units.h"
 #include "pipelines/reports/html_report.h"
 #include "util/atomic_file.h"
+#include "util/csv.h"
 
 namespace softbench {
 namespace {
@@ -146,8 +147,9 @@ std::string TestsCsv(const FitRun& run) {
   out += "\n";
   for (size_t t = 0; t < run.tests.size(); ++t) {
     const ForceTest& test = run.tests[t];
-    out += fmt::format("{},{},{:g},{:g},{:.4f},{:.4f},{},{},{:.4f}", test.id,
-                       test.source, test.nominal_delta_length_mm,
+    out += fmt::format("{},{},{:g},{:g},{:.4f},{:.4f},{},{},{:.4f}",
+                       CsvField(test.id), CsvField(test.source),
+                       test.nominal_delta_length_mm,
                        RadToDeg(test.nominal_theta_rad), test.delta_length_mm(),
                        RadToDeg(test.theta_rad()), test.statistics.All().count,
                        test.statistics.ZeroPressure().count,
@@ -192,11 +194,11 @@ std::string PressureBinsCsv(const FitRun& run,
   for (const BinRow& bin : bins) {
     const ForceMoments& m = bin.moments;
     const double n = static_cast<double>(m.count);
-    out += fmt::format("{},{},{:.5f},{},{:.5f},{:.5f},{:.5f},{:.5f}\n",
-                       run.tests[bin.test].id, bin.phase == 0 ? "up" : "down",
-                       m.mean[0] / run.mpa_per_unit, m.count, m.mean[1],
-                       m.mean[2], std::sqrt(m.comoment(1, 1) / n),
-                       std::sqrt(m.comoment(2, 2) / n));
+    out += fmt::format(
+        "{},{},{:.5f},{},{:.5f},{:.5f},{:.5f},{:.5f}\n",
+        CsvField(run.tests[bin.test].id), bin.phase == 0 ? "up" : "down",
+        m.mean[0] / run.mpa_per_unit, m.count, m.mean[1], m.mean[2],
+        std::sqrt(m.comoment(1, 1) / n), std::sqrt(m.comoment(2, 2) / n));
   }
   return out;
 }
@@ -784,7 +786,9 @@ void WriteFitReport(const FitRun& run, const std::string& directory) {
   const std::string html = ReportHtml(run, bins);
   AtomicDirectory report(directory);
   WriteFileAtomically(report.File("report.html"), html);
-  WriteFileAtomically(report.File("fit.json"), FitJson(run).dump(2) + "\n");
+  WriteFileAtomically(
+      report.File("fit.json"),
+      FitJson(run).dump(2, ' ', false, json::error_handler_t::replace) + "\n");
   WriteFileAtomically(report.File("models.csv"), ModelsCsv(run));
   WriteFileAtomically(report.File("configurations.csv"),
                       ConfigurationsCsv(run));

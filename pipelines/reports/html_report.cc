@@ -9,6 +9,9 @@
 #include "util/text_file.h"
 
 namespace softbench {
+
+// The chart library is a few hundred kilobytes.
+constexpr int64_t kMaxAssetBytes = int64_t{16} << 20;
 namespace {
 
 std::string Escape(const std::string& text) {
@@ -121,14 +124,16 @@ std::string HtmlReport::Render() const {
          {"vega/build/vega.min.js", "vega-lite/build/vega-lite.min.js",
           "vega-embed/build/vega-embed.min.js"}) {
       const std::filesystem::path path = assets / library;
-      if (!std::filesystem::exists(path)) {
+      std::error_code error;
+      if (!std::filesystem::is_regular_file(path, error)) {
         throw InputError(path.string() +
                          ": the report's plotting library is missing; run "
                          "scripts/bootstrap.sh (it installs report/ with npm) "
                          "or set SOFTBENCH_REPORT_ASSETS");
       }
       scripts += "<script>" +
-                 EscapeSlashAfter(ReadTextFile(path.string(), "report asset"),
+                 EscapeSlashAfter(ReadTextFile(path.string(), "report asset",
+                                               kMaxAssetBytes),
                                   "</script") +
                  "</script>\n";
     }
@@ -138,7 +143,11 @@ std::string HtmlReport::Render() const {
     embed += fmt::format(
         "<script>vegaEmbed('#chart{}', {}, {{actions: false, renderer: "
         "'svg'}});</script>\n",
-        i, EscapeSlashAfter(charts_[i].dump(), "</"));
+        i,
+        EscapeSlashAfter(
+            charts_[i].dump(-1, ' ', false,
+                            nlohmann::json::error_handler_t::replace),
+            "</"));
   }
   return fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"

@@ -9,6 +9,8 @@
 
 #include "pipelines/reports/html_report.h"
 #include "pipelines/reports/validation_report.h"
+#include "util/csv.h"
+#include "util/input_error.h"
 
 namespace softbench {
 
@@ -24,18 +26,17 @@ std::string TrajectoryCsv(const TestPlan& plan,
     for (size_t h = 0; h < f.heads.size(); ++h) {
       const HeadSample& s = f.heads[h];
       const HeadObservation& o = s.observation;
-      std::string note = o.note;
-      std::replace(note.begin(), note.end(), ',', ';');
       csv += fmt::format(
           "{},{:.6f},{},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{},{},{:.6f},"
           "{:.5f},{:.5f},{},{},{:.4f},{:.4f},{:.7f},{}\n",
-          f.frame, f.time_s, plan.mechanism.heads[plan.markers[h].head].name,
+          f.frame, f.time_s,
+          CsvField(plan.mechanism.heads[plan.markers[h].head].name),
           o.pixel.x(), o.pixel.y(), s.displacement_mm.x(),
           s.displacement_mm.y(), o.sigma_mm, o.dots_found, o.dots.size(),
           o.rotation_rad, s.binary_displacement_mm.x(),
           s.binary_displacement_mm.y(), o.full_frame ? 1 : 0,
           f.registered ? 1 : 0, f.camera_shift_px.x(), f.camera_shift_px.y(),
-          f.camera_roll_rad, note);
+          f.camera_roll_rad, CsvField(o.note));
     }
   }
   return csv;
@@ -44,17 +45,17 @@ std::string TrajectoryCsv(const TestPlan& plan,
 std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
   std::string csv = "test_id,head";
   for (int k = 1; k <= plan.mechanism.NumActuators(); ++k) {
-    csv += fmt::format(",p{}", k);
+    csv += fmt::format(",p{}_{}", k, plan.pressure_unit);
   }
   csv +=
       ",initial_y_mm,initial_z_mm,actuated_y_mm,actuated_z_mm,final_y_mm,"
       "final_z_mm,measured_dy_mm,measured_dz_mm,model_dy_mm,model_dz_mm,"
       "model_error_mm,baseline_dy_mm,baseline_dz_mm,baseline_error_mm,"
-      "hysteresis_mm,hysteresis_ok,status\n";
+      "hysteresis_mm,hysteresis_ok,in_range,status\n";
   for (const TestScore& t : r.tests) {
     for (size_t h = 0; h < t.heads.size(); ++h) {
       const HeadScore& s = t.heads[h];
-      csv += t.id + "," + plan.mechanism.heads[h].name;
+      csv += CsvField(t.id) + "," + CsvField(plan.mechanism.heads[h].name);
       for (int k = 0; k < t.pressures.size(); ++k) {
         csv += fmt::format(",{:g}", t.pressures[k]);
       }
@@ -70,7 +71,16 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
              "," + FormatMm(s.baseline_error_mm) + "," +
              FormatMm(s.hysteresis_mm) + "," +
              (t.measured ? (s.hysteresis_ok ? "1" : "0") : "") + "," +
-             t.status + "\n";
+             (t.outside_range.empty() ? "1" : "0") + "," + CsvField(t.status) +
+             "\n";
+    }
+  }
+  // Tests the plan says the bench skipped: their pressures, nothing measured.
+  for (const PlanTest& t : plan.skipped_tests) {
+    for (const Head& head : plan.mechanism.heads) {
+      csv += CsvField(t.id) + "," + CsvField(head.name);
+      for (double p : t.pressures) csv += fmt::format(",{:g}", p);
+      csv += std::string(17, ',') + ",skipped\n";  // 17 empty cells
     }
   }
   return csv;
@@ -82,6 +92,7 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
   root["video"] = m.video_path;
   root["plan"] = plan.path;
   root["mechanism"] = plan.mechanism.name;
+  root["pressure_unit"] = plan.pressure_unit;
   root["model"] = r.model_name;
   root["times_source"] = r.times_source;
   root["baseline"] = r.baseline_name;
@@ -95,6 +106,8 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
                           {"unregistered_frames", m.unregistered_frames},
                           {"first_reason", m.unregistered_reason},
                           {"camera_moved_windows", r.camera_moved_windows}};
+  root["damaged_frames"] = {{"decoded_with_errors", m.damaged_frames},
+                            {"never_decoded", m.lost_frame_times_s.size()}};
   root["frames"] = m.frames.size();
   root["every_frame"] = m.every_frame;
   root["missing_dots"] = m.missing_dots;
@@ -120,6 +133,9 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
                         {"flagged", r.hysteresis_flagged},
                         {"shared_cause", r.hysteresis_cause}};
   root["warnings"] = r.warnings;
+  for (const PlanTest& t : plan.skipped_tests) {
+    root["skipped_tests"].push_back(t.id);
+  }
   for (const TestScore& t : r.tests) {
     json test = {{"id", t.id}, {"status", t.status}, {"reason", t.reason}};
     for (int k = 0; k < 3; ++k) {
@@ -151,14 +167,21 @@ json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
 void WriteValidationFiles(const VideoValidation& v,
                           const std::string& directory_name) {
   const std::filesystem::path directory(directory_name);
-  std::filesystem::create_directories(directory);
+  std::error_code error;
+  std::filesystem::create_directories(directory, error);
+  if (error) {
+    throw InputError(directory_name + ": cannot create the report folder (" +
+                     error.message() + ")");
+  }
   WriteFileAtomically((directory / "report.html").string(),
                       ValidationReportHtml(v.plan, v.measurement, v.result));
   WriteFileAtomically((directory / "results.csv").string(),
                       ResultsCsv(v.plan, v.result));
   WriteFileAtomically(
       (directory / "summary.json").string(),
-      SummaryJson(v.plan, v.measurement, v.result).dump(2) + "\n");
+      SummaryJson(v.plan, v.measurement, v.result)
+              .dump(2, ' ', false, json::error_handler_t::replace) +
+          "\n");
   WriteFileAtomically((directory / "trajectory.csv").string(),
                       TrajectoryCsv(v.plan, v.measurement));
 }

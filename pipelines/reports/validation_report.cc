@@ -22,6 +22,7 @@ using nlohmann::json;
 json PositionChart(const TestPlan& plan, const ValidationResult& r) {
   json values = json::array();
   for (const TestScore& t : r.tests) {
+    if (!t.matches_plan) continue;  // not scored: its entry is not its motion
     for (size_t h = 0; h < t.heads.size(); ++h) {
       const HeadScore& s = t.heads[h];
       const std::string head = plan.mechanism.heads[h].name;
@@ -80,6 +81,7 @@ json PositionChart(const TestPlan& plan, const ValidationResult& r) {
 json ErrorChart(const TestPlan& plan, const ValidationResult& r) {
   json values = json::array();
   for (const TestScore& t : r.tests) {
+    if (!t.matches_plan) continue;  // not scored
     for (size_t h = 0; h < t.heads.size(); ++h) {
       for (const auto& [name, error] :
            {std::pair{r.model_name, t.heads[h].model_error_mm},
@@ -369,6 +371,10 @@ void AddTestTable(const TestPlan& plan, const ValidationResult& r,
                       FormatMm(s.hysteresis_mm),
                       t.status + (t.reason.empty() ? "" : ": " + t.reason)});
     }
+  }
+  for (const PlanTest& t : plan.skipped_tests) {
+    rows.push_back(
+        {t.id, "", "", "", "", "", "", "skipped (as the plan says)"});
   }
   report->AddTable(
       {"test", "head", "measured dy [mm]", "measured dz [mm]",

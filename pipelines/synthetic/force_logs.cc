@@ -3,6 +3,7 @@
 #include <fmt/compile.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <functional>
@@ -105,17 +106,46 @@ std::optional<std::string> SyntheticForceLogsOptions::Check() const {
   return std::nullopt;
 }
 
+SyntheticForceLogsSize EstimateSyntheticForceLogs(
+    const SyntheticForceLogsOptions& options) {
+  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  const std::vector<SyntheticTest> tests = SyntheticTests(options.synthetic);
+  SyntheticForceLogsSize size;
+  size.tests = static_cast<int>(tests.size());
+  for (const SyntheticTest& test : tests) size.rows += test.rows;
+  // Bytes per row from the first test's rows formatted as written, at a rate
+  // low enough to take a moment (a row's width does not depend on the rate);
+  // a combined log's rows also carry the configuration columns.
+  SyntheticForceLogOptions sampled = options.synthetic;
+  sampled.sample_rate_hz = std::min(sampled.sample_rate_hz, 100.0);
+  const std::vector<SyntheticTest> sampled_tests = SyntheticTests(sampled);
+  if (sampled_tests.empty() || sampled_tests[0].rows == 0) return size;
+  const double units_per_mpa = 1.0 / *MpaPerPressureUnit(options.pressure_unit);
+  const std::string_view prefix =
+      options.combined ? "t01,-3,30,-3.0000,30.0000," : "";
+  int64_t sampled_bytes = 0;
+  std::string text;
+  GenerateSyntheticTest(sampled, sampled_tests[0], 0,
+                        [&](const SyntheticRow& row) {
+                          text.clear();
+                          AppendRow(prefix, row, units_per_mpa, &text);
+                          sampled_bytes += static_cast<int64_t>(text.size());
+                        });
+  size.bytes = static_cast<int64_t>(static_cast<double>(sampled_bytes) /
+                                    static_cast<double>(sampled_tests[0].rows) *
+                                    static_cast<double>(size.rows));
+  return size;
+}
+
 SyntheticForceLogs WriteSyntheticForceLogs(
     const std::string& directory_name,
     const SyntheticForceLogsOptions& options) {
   SOFTBENCH_CHECK(!options.Check()) << *options.Check();
-  std::error_code error;
-  fs::create_directories(directory_name, error);
-  if (error) {
-    throw InputError(directory_name + ": cannot create (" + error.message() +
-                     ")");
-  }
-  const fs::path directory(directory_name);
+  // Written beside and swapped in whole: a failed or killed run leaves the
+  // previous logs and manifest as they were, never new logs with an old
+  // manifest.
+  AtomicDirectory staging(directory_name);
+  const fs::path directory(staging.File(""));
   const std::vector<SyntheticTest> tests = SyntheticTests(options.synthetic);
   ForceLogManifest manifest = Manifest(tests, options.pressure_unit);
   const std::string header = fmt::format(kHeader, manifest.columns.pressure);
@@ -152,11 +182,12 @@ SyntheticForceLogs WriteSyntheticForceLogs(
         poll);
   }
   progress.Finish();
-  written.manifest_path = (directory / "manifest.yaml").string();
   WriteFileAtomically(
-      written.manifest_path,
+      (directory / "manifest.yaml").string(),
       ForceLogManifestYaml(manifest, options.pressure_unit,
                            ManifestComment(options, tests.size())));
+  staging.Commit();
+  written.manifest_path = (fs::path(directory_name) / "manifest.yaml").string();
   return written;
 }
 

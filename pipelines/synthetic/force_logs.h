@@ -33,6 +33,17 @@ struct SyntheticForceLogs {
   std::string manifest_path;
 };
 
+// What WriteSyntheticForceLogs will write: the rows exactly, the bytes
+// estimated from the first test's formatted rows (within a few per cent),
+// so a caller can state the size, and check the disk, before writing.
+struct SyntheticForceLogsSize {
+  int tests = 0;
+  int64_t rows = 0;
+  int64_t bytes = 0;
+};
+SyntheticForceLogsSize EstimateSyntheticForceLogs(
+    const SyntheticForceLogsOptions& options);
+
 // Writes the logs and manifest.yaml into `directory` (created), each file
 // atomically. Throws InputError when the directory cannot be written.
 SyntheticForceLogs WriteSyntheticForceLogs(

@@ -10,6 +10,7 @@
 
 #include "pipelines/synthetic/render_timeline.h"
 #include "util/check.h"
+#include "util/input_error.h"
 #include "util/progress.h"
 
 namespace softbench {
@@ -180,7 +181,13 @@ RenderedVideo RenderVideo(TestPlan plan, const std::string& video_path,
     fs::remove(temporary, ignored);
     throw;
   }
-  fs::rename(temporary, video);
+  std::error_code error;
+  fs::rename(temporary, video, error);
+  if (error) {
+    fs::remove(temporary, error);
+    throw InputError(video.string() + ": cannot write the video (" +
+                     error.message() + "); choose another --out");
+  }
   rendered.frames = static_cast<int64_t>(
       std::count(rendered.truth_csv.begin(), rendered.truth_csv.end(), '\n') -
       1);

@@ -40,8 +40,15 @@ std::string TimesFromVideo(const VideoMeasurement& m,
                            TestPlan* plan) {
   const TestPointDetection detection =
       DetectTestPoints(m, static_cast<int>(plan->tests.size()), options);
-  if (!detection.found)
-    throw InputError(m.video_path + ": " + detection.why_not);
+  if (!detection.found) {
+    const size_t lost = m.damaged_frames + m.lost_frame_times_s.size();
+    throw InputError(
+        m.video_path + ": " + detection.why_not +
+        (lost == 0 ? ""
+                   : fmt::format(" ({} frames were lost to damaged video "
+                                 "data: re-copy or re-export the video)",
+                                 lost)));
+  }
   if (!log) {
     for (size_t i = 0; i < plan->tests.size(); ++i) {
       plan->tests[i].actuate_s = detection.points[i].actuate_s;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "model/equilibrium.h"
+#include "pipelines/validation/plan_consistency.h"
 #include "util/check.h"
 #include "util/statistics.h"
 
@@ -15,9 +16,8 @@ namespace {
 
 // Equilibrium displacements of every head from rest for given pressures
 // [MPa], solved from the rest state; NaN when the solver fails.
-Eigen::VectorXd Predict(const Mechanism& mechanism, const ForceModel& model,
+Eigen::VectorXd Predict(const EquilibriumProblem& problem,
                         const Eigen::VectorXd& pressures_mpa) {
-  const EquilibriumProblem problem(mechanism, model);
   EquilibriumSolver solver(problem);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(problem.NumUnknowns());
   if (!solver.Solve(pressures_mpa, &x).converged()) {
@@ -136,6 +136,13 @@ std::optional<std::string> ValidationOptions::Check() const {
   if (!(camera_motion_warning_px > 0.0)) {
     return "camera_motion_warning_px must be > 0";
   }
+  if (!(mismatch_min_mm > 0.0) || !(mismatch_fraction > 0.0)) {
+    return "mismatch_min_mm and mismatch_fraction must be > 0";
+  }
+  if (!(better_match_ratio > 0.0 && better_match_ratio < 1.0) ||
+      !(better_match_margin_mm >= 0.0)) {
+    return "better_match_ratio must be in (0, 1), better_match_margin_mm >= 0";
+  }
   return std::nullopt;
 }
 
@@ -176,6 +183,11 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   std::vector<std::array<std::vector<double>, 2>> values(num_heads);
   std::array<std::vector<double>, 2> camera;
   window->unregistered_frames = 0;
+  window->damaged_frames = static_cast<int>(
+      std::lower_bound(measurement.lost_frame_times_s.begin(),
+                       measurement.lost_frame_times_s.end(), window->end_s) -
+      std::lower_bound(measurement.lost_frame_times_s.begin(),
+                       measurement.lost_frame_times_s.end(), window->start_s));
   // Frames are in time order: only the window's own are visited.
   const auto by_time = [](const FrameSample& frame, double time_s) {
     return frame.time_s < time_s;
@@ -188,7 +200,9 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   for (auto it = begin; it != end; ++it) {
     const FrameSample& frame = *it;
     ++window->frames;
-    if (!frame.registered) {
+    if (frame.damaged) {
+      ++window->damaged_frames;
+    } else if (!frame.registered) {
       ++window->unregistered_frames;
     } else {
       camera[0].push_back(frame.camera_shift_px.x());
@@ -238,7 +252,10 @@ std::string WindowProblem(const TestPlan& plan,
   return fmt::format(
       "{} window {:.2f}-{:.2f} s: {}", kWindowNames[k], window.start_s,
       window.end_s,
-      window.frames == 0 ? "no frames (beyond the video?)"
+      window.damaged_frames > 0
+          ? fmt::format("{} frames lost to damaged video data",
+                        window.damaged_frames)
+      : window.frames == 0 ? "no frames (beyond the video?)"
       : 2 * window.unregistered_frames > window.frames
           ? fmt::format("{} of {} frames could not be registered to the "
                         "bench ({})",
@@ -276,10 +293,13 @@ void SummariseWindows(const TestPlan& plan, const VideoMeasurement& measurement,
 void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
                 TestScore* score) {
   const Eigen::VectorXd pressures_mpa = score->pressures * plan.mpa_per_unit;
-  const Eigen::VectorXd model =
-      Predict(plan.mechanism, plan.force_model, pressures_mpa);
+  const EquilibriumProblem problem(plan.mechanism, plan.force_model);
+  const Eigen::VectorXd model = Predict(problem, pressures_mpa);
+  score->outside_range =
+      OutsideCharacterisedRange(plan.range, problem, pressures_mpa, model)
+          .value_or("");
   const Eigen::VectorXd spring =
-      Predict(plan.mechanism, baseline, pressures_mpa);
+      Predict(EquilibriumProblem(plan.mechanism, baseline), pressures_mpa);
   bool hysteresis_ok = true;
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     HeadScore& head = score->heads.emplace_back();
@@ -307,7 +327,7 @@ void SummariseErrors(int num_heads, ValidationResult* result) {
   for (int h = 0; h < num_heads; ++h) {
     std::vector<double> model, baseline;
     for (const TestScore& t : result->tests) {
-      if (!t.measured) continue;
+      if (!t.scored()) continue;
       model.push_back(t.heads[h].model_error_mm);
       baseline.push_back(t.heads[h].baseline_error_mm);
     }
@@ -342,6 +362,7 @@ std::vector<RepeatAgreement> Repeats(const std::vector<TestScore>& tests,
       double largest = 0.0;
       for (size_t a : members) {
         for (size_t b : members) {
+          if (!tests[a].scored() || !tests[b].scored()) continue;
           const double d =
               (tests[a].heads[h].measured_mm - tests[b].heads[h].measured_mm)
                   .norm();
@@ -386,6 +407,28 @@ void WarnAboutSettling(const TestPlan& plan, ValidationResult* result) {
   }
 }
 
+// Frames lost to damaged video data, in the video and per window.
+void WarnAboutDamage(const VideoMeasurement& measurement,
+                     ValidationResult* result) {
+  const int lost = measurement.damaged_frames +
+                   static_cast<int>(measurement.lost_frame_times_s.size());
+  if (lost == 0) return;
+  result->warnings.push_back(fmt::format(
+      "{} frames lost to damaged video data ({} decoded with errors, {} "
+      "never decoded); re-copy or re-export the video",
+      lost, measurement.damaged_frames, measurement.lost_frame_times_s.size()));
+  for (const TestScore& t : result->tests) {
+    for (int k = 0; k < 3; ++k) {
+      if (t.windows[k].damaged_frames > 0) {
+        result->warnings.push_back(fmt::format(
+            "{} {} window: {} of its frames lost to damaged video data{}", t.id,
+            kWindowNames[k], t.windows[k].damaged_frames,
+            t.measured ? " (measured from the others)" : ""));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 ValidationResult ScoreTests(const TestPlan& plan,
@@ -409,6 +452,10 @@ ValidationResult ScoreTests(const TestPlan& plan,
     score.windows = windows[i];
     SummariseWindows(plan, measurement, options, &score);
     ScoreHeads(plan, baseline, &score);
+  }
+  result.warnings = CheckPlanConsistency(options, &result.tests);
+  for (const TestScore& score : result.tests) {
+    if (!score.matches_plan) result.mismatched.push_back(score.id);
     if (score.status == "hysteresis") {
       result.hysteresis_flagged.push_back(score.id);
     }
@@ -419,7 +466,16 @@ ValidationResult ScoreTests(const TestPlan& plan,
       SharedCause(plan, result.tests, result.hysteresis_flagged);
   WarnAboutTiming(plan, options, &result);
   WarnCameraMotion(result.tests, measurement, &result);
+  WarnAboutDamage(measurement, &result);
   WarnAboutSettling(plan, &result);
+  for (const TestScore& score : result.tests) {
+    if (!score.outside_range.empty()) {
+      result.warnings.push_back(
+          fmt::format("{}: the model extrapolates here ({}); its error says "
+                      "little about the constants",
+                      score.id, score.outside_range));
+    }
+  }
   return result;
 }
 

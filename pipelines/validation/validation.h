@@ -30,6 +30,17 @@ struct ValidationOptions {
   // corrects it, but a tripod that moves during a window is worth fixing.
   // Tremor (< 0.1 px) and a slow drift stay below it; a bump does not.
   double camera_motion_warning_px = 0.5;
+  // A test whose motion is further from its own entry's prediction than
+  // both of these [mm] and [fraction of the predicted motion] does not match
+  // its plan entry (plan_consistency.h): far above the model errors the
+  // thesis reports (0.04 mm delta, 0.27 mm floating mean; 4.1.4, 4.2.4).
+  double mismatch_min_mm = 0.5;
+  double mismatch_fraction = 0.5;
+  // Nor does a test that is within this fraction of its own prediction's
+  // distance of another entry's prediction, and closer by this margin [mm]:
+  // the signature of tests swapped or shifted against the plan.
+  double better_match_ratio = 0.25;
+  double better_match_margin_mm = 0.3;
 
   std::optional<std::string> Check() const;
 };
@@ -51,6 +62,9 @@ struct WindowSummary {
   double camera_motion_px = 0.0;
   bool camera_moved = false;  // above camera_motion_warning_px
   int unregistered_frames = 0;
+  // Frames lost to damaged video data (decoded with errors, or never
+  // decoded): the window is marked, never silently short.
+  int damaged_frames = 0;
 
   // The frame the report shows for the window.
   double middle_s() const { return 0.5 * (start_s + end_s); }
@@ -72,8 +86,17 @@ struct TestScore {
   std::array<WindowSummary, 3> windows;
   std::vector<HeadScore> heads;
   bool measured = false;  // every window measured for every head
-  std::string status;     // "ok", "hysteresis", "not measured"
-  std::string reason;     // why not measured
+  // The motion fits the test's own plan entry (plan_consistency.h).
+  bool matches_plan = true;
+  // "ok", "hysteresis", "not measured", "mismatch"
+  std::string status;
+  std::string reason;  // why not measured or not scored
+  // Why the model extrapolates at this test (beyond the constants'
+  // characterised range), or empty.
+  std::string outside_range;
+
+  // Measured and matched to its plan entry: counted in the statistics.
+  bool scored() const { return measured && matches_plan; }
 };
 
 // Error statistics of one model for one head over the measured tests [mm].
@@ -101,6 +124,7 @@ struct ValidationResult {
   std::vector<double> improvement_percent;
   std::vector<RepeatAgreement> repeats;
   std::vector<std::string> hysteresis_flagged;  // test ids
+  std::vector<std::string> mismatched;          // test ids (plan_consistency.h)
   std::string hysteresis_cause;  // what the flagged tests share, if anything
   std::vector<std::string> warnings;
   // The windows in which the camera moved (camera_motion_warning_px), each

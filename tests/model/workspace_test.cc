@@ -96,6 +96,32 @@ TEST(Workspace, ThreadCountDoesNotChangeTheMap) {
   EXPECT_EQ(one.displacements_mm, four.displacements_mm);
 }
 
+// Up to 8 psi against a range characterised to 6 psi: the rows the workers
+// mark are exactly those OutsideCharacterisedRange names, one by one.
+TEST(Workspace, MarksTheRowsBeyondTheCharacterisedRange) {
+  const EquilibriumProblem problem(testing::DeltaMechanism(),
+                                   ForceModel::SmallAngle({}));
+  WorkspaceOptions options = PsiLevels(8, 1, 2);
+  options.range = CharacterisedRange();
+  const WorkspaceMap map = ComputeWorkspace(problem, options);
+  ASSERT_EQ(map.in_range.size(), 729u);
+  int outside = 0;
+  for (Eigen::Index i = 0; i < map.pressures_mpa.rows(); ++i) {
+    const bool beyond =
+        OutsideCharacterisedRange(*options.range, problem,
+                                  map.pressures_mpa.row(i).transpose(),
+                                  map.displacements_mm.row(i).transpose())
+            .has_value();
+    EXPECT_EQ(map.in_range[i] == 0, beyond) << "row " << i;
+    outside += beyond ? 1 : 0;
+  }
+  // Every row with a 7 or 8 psi level (729 - 7^3), and none without a range.
+  EXPECT_EQ(map.num_outside_range, outside);
+  EXPECT_GE(outside, 729 - 343);
+  options.range.reset();
+  EXPECT_EQ(ComputeWorkspace(problem, options).num_outside_range, 0);
+}
+
 TEST(WorkspaceOptions, CheckRejectsBadLevels) {
   WorkspaceOptions options;
   EXPECT_TRUE(options.Check().has_value());

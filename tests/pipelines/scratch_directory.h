@@ -2,7 +2,9 @@
 #define SOFTBENCH_TESTS_PIPELINES_SCRATCH_DIRECTORY_H_
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -37,6 +39,18 @@ class ScratchDirectoryTest : public ::testing::Test {
     std::stringstream text;
     text << stream.rdbuf();
     return text.str();
+  }
+  // Runs the built program with `arguments` (shell words after `softbench`);
+  // returns its exit code, and its stdout and stderr when asked.
+  int RunProgram(const std::string& arguments, std::string* stderr_text,
+                 std::string* stdout_text = nullptr) const {
+    const std::string out = Path("stdout.txt"), err = Path("stderr.txt");
+    const std::string command = std::string(SOFTBENCH_BINARY) + " " +
+                                arguments + " > " + out + " 2> " + err;
+    const int status = std::system(command.c_str());
+    if (stderr_text != nullptr) *stderr_text = Read(err);
+    if (stdout_text != nullptr) *stdout_text = Read(out);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
 
   std::filesystem::path dir_;

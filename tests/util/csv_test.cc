@@ -66,5 +66,170 @@ TEST(CsvReader, RejectsMissingAndEmptyFiles) {
                InputError);
 }
 
+// The error message of reading every row of `text`, or "" if none.
+std::string ReadAllError(const std::string& name, const std::string& text,
+                         DecimalMark decimal_mark = DecimalMark::kPoint) {
+  try {
+    CsvReader reader(WriteTemp(name, text), decimal_mark);
+    std::vector<std::string_view> fields;
+    while (reader.ReadRow(&fields)) {
+    }
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Rows across the buffer's refills, a row longer than the first buffer
+// (it grows), and a line longer than any CSV row (refused, not read on).
+TEST(CsvReader, ReadsRowsAcrossRefillsAndRefusesEndlessLines) {
+  std::string text = "id,value\n";
+  const int rows = 200000;  // about 2.4 MB: several 1 MiB refills
+  for (int i = 0; i < rows; ++i) text += std::to_string(i) + ",0.5\n";
+  const std::string long_id(3 << 20, 'x');
+  text += long_id + ",7\n";
+  CsvReader reader(WriteTemp("softbench_csv_refills.csv", text));
+  std::vector<std::string_view> fields;
+  for (int i = 0; i < rows; ++i) {
+    ASSERT_TRUE(reader.ReadRow(&fields));
+    ASSERT_EQ(fields[0], std::to_string(i));
+  }
+  ASSERT_TRUE(reader.ReadRow(&fields));
+  EXPECT_EQ(fields[0], long_id);
+  EXPECT_EQ(fields[1], "7");
+  EXPECT_FALSE(reader.ReadRow(&fields));
+  EXPECT_NE(ReadAllError("softbench_csv_endless.csv",
+                         "a,b\n" + std::string(17 << 20, '1'))
+                .find("softbench_csv_endless.csv:2: a line longer than 16 "
+                      "MiB; this is not a CSV file"),
+            std::string::npos);
+}
+
+TEST(CsvReader, ReadsTheDialectsSpreadsheetsWrite) {
+  const struct {
+    std::string name, text;
+    char separator;
+  } dialects[] = {
+      {"bom.csv", "\xEF\xBB\xBFp1,p2\n1.5,2\n", ','},
+      {"quoted.csv", "\"p1\",\"p2\"\n\"1.5\", 2\n", ','},
+      {"semicolon.csv", "p1;p2\n1.5;2\n", ';'},
+      {"tab.csv", "p1\tp2\n1.5\t2\n", '\t'},
+      {"excel.csv", "\xEF\xBB\xBF\"p1\";\"p2\"\r\n1.5;\"2\"\r\n", ';'},
+  };
+  for (const auto& dialect : dialects) {
+    CsvReader reader(
+        WriteTemp("softbench_dialect_" + dialect.name, dialect.text));
+    EXPECT_EQ(reader.separator(), dialect.separator) << dialect.name;
+    EXPECT_EQ(reader.header(), (std::vector<std::string>{"p1", "p2"}))
+        << dialect.name;
+    std::vector<std::string_view> fields;
+    ASSERT_TRUE(reader.ReadRow(&fields)) << dialect.name;
+    ASSERT_EQ(fields.size(), 2u) << dialect.name;
+    EXPECT_EQ(ParseDouble(fields[0]), 1.5) << dialect.name;
+    EXPECT_EQ(ParseDouble(fields[1]), 2.0) << dialect.name;
+  }
+}
+
+TEST(CsvReader, RefusesADecimalCommaSayingSo) {
+  const std::string message =
+      ReadAllError("softbench_decimal_comma.csv", "p1;p2\n1;6,5\n");
+  EXPECT_NE(
+      message.find(
+          "softbench_decimal_comma.csv:2: '6,5' has a decimal "
+          "comma; write numbers with a decimal point ('6.5') or declare the "
+          "comma with --decimal-comma"),
+      std::string::npos)
+      << message;
+}
+
+TEST(CsvReader, ReadsADeclaredDecimalComma) {
+  const struct {
+    std::string name, text;
+    char separator;
+  } dialects[] = {
+      {"semicolon.csv", "id;p1;p2\nb,c;6,5;-0,25\n", ';'},
+      {"tab.csv", "id\tp1\tp2\nb,c\t6,5\t-0,25\n", '\t'},
+      {"quoted.csv", "\"id\";\"p1\";\"p2\"\r\n\"b,c\";\"6,5\";-0,25\r\n", ';'},
+      {"one_column.csv", "p1\n6,5\n", ';'},
+  };
+  for (const auto& dialect : dialects) {
+    CsvReader reader(WriteTemp("softbench_comma_" + dialect.name, dialect.text),
+                     DecimalMark::kComma);
+    EXPECT_EQ(reader.separator(), dialect.separator) << dialect.name;
+    std::vector<std::string_view> fields;
+    ASSERT_TRUE(reader.ReadRow(&fields)) << dialect.name;
+    if (fields.size() == 1) {
+      EXPECT_EQ(ParseDouble(fields[0]), 6.5) << dialect.name;
+      continue;
+    }
+    ASSERT_EQ(fields.size(), 3u) << dialect.name;
+    // A name with a comma stays as written; numbers come back with points.
+    EXPECT_EQ(fields[0], "b,c") << dialect.name;
+    EXPECT_EQ(ParseDouble(fields[1]), 6.5) << dialect.name;
+    EXPECT_EQ(ParseDouble(fields[2]), -0.25) << dialect.name;
+    EXPECT_FALSE(reader.ReadRow(&fields)) << dialect.name;
+  }
+}
+
+TEST(CsvReader, RefusesAPointOrACommaSeparatorWhenACommaIsDeclared) {
+  // "1.234" may be 1234 with a thousands point: never guessed.
+  const std::string point = ReadAllError(
+      "softbench_comma_point.csv", "p1;p2\n1.234;2\n", DecimalMark::kComma);
+  EXPECT_NE(point.find("softbench_comma_point.csv:2: '1.234' has a decimal "
+                       "point, but the numbers are declared to have a "
+                       "decimal comma (--decimal-comma); write '1,234'"),
+            std::string::npos)
+      << point;
+  const std::string separator = ReadAllError(
+      "softbench_comma_separator.csv", "p1,p2\n1,2\n", DecimalMark::kComma);
+  EXPECT_NE(separator.find("softbench_comma_separator.csv:1: the header "
+                           "separates its columns with ','"),
+            std::string::npos)
+      << separator;
+  // "1.234,5" is neither: the caller's number check names it.
+  CsvReader reader(WriteTemp("softbench_comma_both.csv", "p1\n1.234,5\n"),
+                   DecimalMark::kComma);
+  std::vector<std::string_view> fields;
+  ASSERT_TRUE(reader.ReadRow(&fields));
+  EXPECT_FALSE(ParseDouble(fields[0]).has_value());
+}
+
+TEST(CsvReader, RefusesWhatIsNotACsvFileWithOneLine) {
+  EXPECT_NE(ReadAllError("softbench_unclosed.csv", "a,b\n\"1,2\n")
+                .find(":2: a quoted field has no closing quote"),
+            std::string::npos);
+  EXPECT_NE(ReadAllError("softbench_binary.csv", std::string("a\0b\n", 4))
+                .find(":1: the header is not text"),
+            std::string::npos);
+  try {
+    CsvReader reader("/dev/zero");
+    FAIL() << "/dev/zero was opened as a CSV file";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero: is a device"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(CsvReader(std::filesystem::temp_directory_path().string()),
+               InputError);
+}
+
+TEST(CsvField, RoundTripsThroughTheReader) {
+  const std::vector<std::string> texts = {"plain", "a,b", "say \"hi\"",
+                                          " padded ", ""};
+  std::string csv = "x";
+  for (size_t i = 1; i < texts.size(); ++i) csv += ",x" + std::to_string(i);
+  csv += "\n";
+  for (size_t i = 0; i < texts.size(); ++i) {
+    csv += (i == 0 ? "" : ",") + CsvField(texts[i]);
+  }
+  EXPECT_EQ(CsvField("plain"), "plain");
+  EXPECT_EQ(CsvField("a,b"), "\"a,b\"");
+  CsvReader reader(WriteTemp("softbench_csv_field.csv", csv + "\n"));
+  std::vector<std::string_view> fields;
+  ASSERT_TRUE(reader.ReadRow(&fields));
+  ASSERT_EQ(fields.size(), texts.size());
+  for (size_t i = 0; i < texts.size(); ++i) EXPECT_EQ(fields[i], texts[i]);
+}
+
 }  // namespace
 }  // namespace softbench

@@ -34,6 +34,10 @@ TEST(PlaneMapping, TagGivesTheDotPlaneOfATiltedDistortedCamera) {
   // The tilt the pose corrects: 5 deg about x after -3 deg about y.
   EXPECT_NEAR(mapping.TiltRad(),
               std::acos(std::cos(5 * kDeg) * std::cos(3 * kDeg)), 1e-6);
+  // The camera's height above the tag, from the tag's pose alone: 490 mm
+  // along the tilted axis from a point 16 mm above the tag.
+  EXPECT_NEAR(mapping.CameraHeightMm(),
+              16 + 490 * std::cos(5 * kDeg) * std::cos(3 * kDeg), 1e-6);
   // A point on the tag plane is not on the dot plane: the offset matters.
   const Eigen::Vector2d low = mapping.ToPlane(camera.Project({40, 30, 0}));
   EXPECT_GT((low - Eigen::Vector2d(40, 30)).norm(), 0.5);

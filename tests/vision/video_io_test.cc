@@ -1,10 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "util/input_error.h"
 #include "vision/video_reader.h"
@@ -268,12 +270,87 @@ TEST(VideoIo, TruncatedFileIsAClearErrorNamingTheLastGoodFrame) {
   }
 }
 
+// Bit flips in the stream: the frames the decoder conceals, and those
+// predicted from them up to the next key frame, are marked damaged (never
+// handed on as good pixels); a clean copy has none.
+TEST(VideoIo, DamagedDataIsMarkedUpToTheNextKeyFrame) {
+  const std::string path = WriteVideo("softbench_io_clean.mp4", 120);
+  const auto damaged_frames = [](const std::string& file) {
+    VideoReader reader(file);
+    VideoFrame frame;
+    std::vector<int64_t> marked;
+    while (reader.Read(&frame)) {
+      if (frame.damaged) marked.push_back(frame.index);
+    }
+    EXPECT_EQ(marked.size(),
+              reader.damaged_frames().size() -
+                  std::count_if(reader.damaged_frames().begin(),
+                                reader.damaged_frames().end(),
+                                [](const auto& d) { return d.lost; }));
+    return reader.damaged_frames().size();
+  };
+  EXPECT_EQ(damaged_frames(path), 0u);
+  const std::string flipped =
+      (fs::temp_directory_path() / "softbench_io_flipped.mp4").string();
+  fs::copy_file(path, flipped, fs::copy_options::overwrite_existing);
+  std::fstream bytes(flipped, std::ios::in | std::ios::out | std::ios::binary);
+  const auto size = static_cast<std::streamoff>(fs::file_size(flipped));
+  std::mt19937 random(7);
+  // Flip bits in the middle half, where the frames' data lies (the moov
+  // atom with the sample table is at the start).
+  std::uniform_int_distribution<std::streamoff> where(size / 4, 3 * size / 4);
+  for (int k = 0; k < 40; ++k) {
+    const std::streamoff at = where(random);
+    char c = 0;
+    bytes.seekg(at);
+    bytes.get(c);
+    bytes.seekp(at);
+    bytes.put(static_cast<char>(c ^ 0x5A));
+  }
+  bytes.close();
+  try {
+    EXPECT_GT(damaged_frames(flipped), 0u);
+  } catch (const InputError& e) {  // also fine: damaged beyond decoding
+    EXPECT_NE(std::string(e.what()).find("corrupt"), std::string::npos);
+  }
+}
+
 TEST(VideoIo, UnreadableFilesAreClearErrors) {
   const std::string junk =
       (fs::temp_directory_path() / "softbench_io_junk.mp4").string();
   std::ofstream(junk) << "this is not a video";
   EXPECT_THROW(VideoReader reader(junk), InputError);
   EXPECT_THROW(VideoReader reader("/nonexistent/softbench.mp4"), InputError);
+  // A photo (a PNG is refused as rgb24 above the container's kind).
+  const std::string still =
+      (fs::temp_directory_path() / "softbench_io_still.jpg").string();
+  cv::imwrite(still, TestFrame(0, {320, 240}));
+  try {
+    VideoReader reader(still);
+    FAIL() << "a JPEG photo opened as a video";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a still image"), std::string::npos)
+        << e.what();
+  }
+  // A stream whose header declares an absurd size (YUV4MPEG2: the size is a
+  // header field, within FFmpeg's own limit but beyond any camera's) is
+  // refused at open, not allocated.
+  const std::string absurd =
+      (fs::temp_directory_path() / "softbench_io_absurd.y4m").string();
+  std::ofstream(absurd, std::ios::binary)
+      << "YUV4MPEG2 W20000 H10000 F30:1 Ip A1:1 C420jpeg\nFRAME\n"
+      << std::string(4096, '\x80');
+  try {
+    VideoReader reader(absurd);
+    FAIL() << "a 20000x10000 picture was opened";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("softbench_io_absurd.y4m"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("declares a 20000x10000 picture"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // Four flat patches: white, black, a dot's red and mid grey.

@@ -50,8 +50,9 @@ TEST_F(CommandsTest, PredictWritesTheContractColumnsInInputOrder) {
 
   CsvReader reader(options.output_path);
   EXPECT_EQ(reader.header(), (std::vector<std::string>{
-                                 "p1", "p2", "p3", "p4", "p5", "y1_mm", "z1_mm",
-                                 "y2_mm", "z2_mm", "converged", "residual_n"}));
+                                 "p1_psi", "p2_psi", "p3_psi", "p4_psi",
+                                 "p5_psi", "y1_mm", "z1_mm", "y2_mm", "z2_mm",
+                                 "converged", "residual_n", "in_range"}));
   const EquilibriumProblem problem(testing::FloatingMechanism(),
                                    ForceModel::SmallAngle({}));
   EquilibriumSolver solver(problem);
@@ -88,6 +89,27 @@ TEST_F(CommandsTest, PredictUnitsAgree) {
       << psi;
 }
 
+TEST_F(CommandsTest, PredictReadsADeclaredDecimalCommaAsItsPointTwin) {
+  PredictOptions options;
+  options.model.pressure_unit = "kpa";
+  options.input_path = Write("point.csv", "p1,p2,p3\n41.5,20.25,0\n");
+  options.output_path = Path("point_out.csv");
+  std::ostringstream out;
+  ASSERT_EQ(RunPredict(options, out), 0);
+  options.input_path = Write("comma.csv", "p1;p2;p3\n41,5;20,25;0\n");
+  options.output_path = Path("comma_out.csv");
+  EXPECT_NE(PredictError("p1;p2;p3\n41,5;20,25;0\n")
+                .find("in.csv:2: '41,5' has a decimal comma"),
+            std::string::npos);
+  options.decimal_comma = true;
+  ASSERT_EQ(RunPredict(options, out), 0);
+  std::ifstream point(Path("point_out.csv")), comma(Path("comma_out.csv"));
+  std::stringstream point_text, comma_text;
+  point_text << point.rdbuf();
+  comma_text << comma.rdbuf();
+  EXPECT_EQ(comma_text.str(), point_text.str());
+}
+
 TEST_F(CommandsTest, PredictRejectsBadRowsAndWritesNothing) {
   EXPECT_NE(PredictError("p1,p2\n1,2\n").find("in.csv:1: column p3 is missing"),
             std::string::npos);
@@ -107,6 +129,89 @@ TEST_F(CommandsTest, PredictRejectsBadRowsAndWritesNothing) {
   EXPECT_NE(PredictError("p1,p2,p3\n").find("no pressure rows"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(Path("out.csv")));
+}
+
+TEST_F(CommandsTest, PredictNeverAssumesAPressureUnit) {
+  PredictOptions options;
+  options.input_path = Write("plain.csv", "p1,p2,p3\n6,3,0\n");
+  options.output_path = Path("out.csv");
+  std::ostringstream out;
+  try {
+    RunPredict(options, out);
+    FAIL() << "a plain p1 column without --pressure-unit was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "plain.csv:1: the pressure columns do not say their unit; "
+                  "name them p1_psi, p1_kpa or p1_mpa ..., or pass "
+                  "--pressure-unit"),
+              std::string::npos)
+        << e.what();
+  }
+  options.input_path.clear();
+  options.pressures = "6,3,0";
+  try {
+    RunPredict(options, out);
+    FAIL() << "--pressures without --pressure-unit was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--pressure-unit: missing"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(Path("out.csv")));
+}
+
+TEST_F(CommandsTest, PredictReadsTheColumnsUnitAndConvertsToTheFlags) {
+  PredictOptions options;
+  options.input_path = Write("kpa.csv",
+                             "p1_kpa,p2_kpa,p3_kpa\n"
+                             "41.368542,20.684271,0\n");
+  options.output_path = Path("out_kpa.csv");
+  std::ostringstream out;
+  ASSERT_EQ(RunPredict(options, out), 0);
+  options.model.pressure_unit = "psi";
+  options.output_path = Path("out_psi.csv");
+  ASSERT_EQ(RunPredict(options, out), 0);
+  CsvReader kpa(Path("out_kpa.csv")), psi(Path("out_psi.csv"));
+  EXPECT_EQ(kpa.header()[0], "p1_kpa");
+  EXPECT_EQ(psi.header()[0], "p1_psi");
+  std::vector<std::string_view> kpa_row, psi_row;
+  ASSERT_TRUE(kpa.ReadRow(&kpa_row));
+  ASSERT_TRUE(psi.ReadRow(&psi_row));
+  EXPECT_NEAR(*ParseDouble(psi_row[0]), 6.0, 1e-6);
+  EXPECT_EQ(kpa_row[3], psi_row[3]);  // y1_mm: the same prediction
+  EXPECT_NE(PredictError("p1_psi,p2_kpa,p3_psi\n1,2,3\n")
+                .find("column p2 is in 'kpa' but p1 in 'psi'"),
+            std::string::npos);
+}
+
+TEST_F(CommandsTest, PredictMarksWhatLiesBeyondTheCharacterisedRange) {
+  // The thesis's constants, fitted up to 6 psi and 3 mm of stretch.
+  const std::string thesis =
+      "axial_area_mm2: 157\n"
+      "shear_area_factor_mm2_per_rad: 105.2\n"
+      "linear_stiffness_n_per_mm: 2.71\n"
+      "torsional_factor_n_per_rad: 19.31\n";
+  const auto in_range = [&](const std::string& constants) {
+    PredictOptions options;
+    options.model.constants_path = Write("c.yaml", thesis + constants);
+    options.input_path =
+        Write("in.csv", "p1_psi,p2_psi,p3_psi\n6,6,0\n60,0,0\n");
+    options.output_path = Path("out.csv");
+    std::ostringstream out;
+    EXPECT_EQ(RunPredict(options, out), 0);
+    CsvReader reader(options.output_path);
+    std::vector<std::string> flags;
+    std::vector<std::string_view> fields;
+    while (reader.ReadRow(&fields)) flags.emplace_back(fields.back());
+    return flags;
+  };
+  // 60 psi is beyond the thesis's 6 psi; 6,6,0 stays inside.
+  EXPECT_EQ(in_range(""), (std::vector<std::string>{"1", "0"}));
+  // A lower pressure limit, and a stretch limit below what 6,6,0 needs.
+  EXPECT_EQ(in_range("characterised_max_pressure_mpa: 0.02\n"),
+            (std::vector<std::string>{"0", "0"}));
+  EXPECT_EQ(in_range("characterised_max_delta_length_mm: 0.1\n"),
+            (std::vector<std::string>{"0", "0"}));
 }
 
 TEST_F(CommandsTest, PredictErrorLeavesAnEarlierOutputUntouched) {
@@ -150,6 +255,7 @@ TEST_F(CommandsTest, WorkspaceWritesEveryConfigurationAndTheExtents) {
 
 TEST_F(CommandsTest, WorkspaceRejectsAStepThatDoesNotDivideTheRange) {
   WorkspaceCommandOptions options;
+  options.model.pressure_unit = "psi";
   options.step = 0.7;
   std::ostringstream out;
   EXPECT_THROW(RunWorkspace(options, out), InputError);
@@ -170,6 +276,21 @@ TEST_F(CommandsTest, InverseAnswersReachableOrUnreachable) {
   EXPECT_NE(far.str().find("unreachable"), std::string::npos);
   options.target = "1,2,3";
   EXPECT_THROW(RunInverse(options, far), InputError);
+}
+
+TEST_F(CommandsTest, InverseAnswersInTheAskedUnitAndRefusesAZeroLimit) {
+  InverseCommandOptions options;
+  options.model.pressure_unit = "kpa";
+  options.target = "-1.125390,0.649744";
+  std::ostringstream out;
+  ASSERT_EQ(RunInverse(options, out), 0);  // the 6 psi default, in kPa
+  EXPECT_NE(out.str().find("p1 = 41.3685, p2 = 41.3685"), std::string::npos)
+      << out.str();
+  options.max_pressure = 0.0;
+  EXPECT_THROW(RunInverse(options, out), InputError);
+  options.max_pressure.reset();
+  options.model.pressure_unit.reset();
+  EXPECT_THROW(RunInverse(options, out), InputError);
 }
 
 }  // namespace

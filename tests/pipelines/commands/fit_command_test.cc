@@ -3,15 +3,19 @@
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/wait.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "pipelines/characterisation/force_log_manifest.h"
 #include "pipelines/commands/synth_forces_command.h"
 #include "pipelines/formats/constants_file.h"
+#include "pipelines/synthetic/force_logs.h"
 #include "tests/pipelines/scratch_directory.h"
 #include "util/input_error.h"
 
@@ -34,6 +38,22 @@ class FitCommandTest : public ScratchDirectoryTest {
     std::ostringstream out;
     EXPECT_EQ(RunSynthForces(options, out), 0);
     return Path(name) + "/manifest.yaml";
+  }
+  // A manifest of only the tests at nominal theta = 0 of `manifest_path`,
+  // written to `path` (beside the logs it names).
+  static std::string ZeroAngleManifest(const std::string& manifest_path,
+                                       const std::string& path) {
+    const ForceLogManifest manifest = LoadForceLogManifest(manifest_path);
+    ForceLogManifest zero_angle;
+    zero_angle.columns = manifest.columns;
+    for (size_t t = 0; t < manifest.tests.size(); ++t) {
+      if (manifest.tests[t].nominal_theta_rad == 0.0) {
+        zero_angle.tests.push_back(manifest.tests[t]);
+        zero_angle.files.push_back(manifest.files[t]);
+      }
+    }
+    std::ofstream(path) << ForceLogManifestYaml(zero_angle, "kpa", "");
+    return path;
   }
   FitCommandOptions Fit(const std::string& input) const {
     FitCommandOptions options;
@@ -123,21 +143,77 @@ TEST_F(FitCommandTest, AFailedReportLeavesThePreviousOneWhole) {
   EXPECT_EQ(Read(Path("report/fit.json")), before);
 }
 
+// Every file of `directory` (names and contents), to compare before and after.
+std::map<std::string, std::string> DirectoryContents(
+    const fs::path& directory) {
+  std::map<std::string, std::string> contents;
+  for (const auto& entry : fs::directory_iterator(directory)) {
+    std::ifstream stream(entry.path());
+    std::stringstream text;
+    text << stream.rdbuf();
+    contents[entry.path().filename().string()] = text.str();
+  }
+  return contents;
+}
+
+TEST_F(FitCommandTest, AKilledSynthForcesLeavesThePreviousLogsAsTheyWere) {
+  Synthesize("logs", false);
+  const auto before = DirectoryContents(Path("logs"));
+  ASSERT_GT(before.size(), 2u);
+  // Killed (SIGKILL: no handler runs) while it writes a thousand times more
+  // rows than the logs before, with another seed.
+  const std::string command = "timeout -s KILL 1.5 " +
+                              std::string(SOFTBENCH_BINARY) +
+                              " synth-forces -q --rate 40000 --seed 9 --out " +
+                              Path("logs") + " > /dev/null 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 128 + SIGKILL) << "it was not killed mid-run";
+  // It was writing beside the logs...
+  bool staged = false;
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    staged |= entry.path().filename().string().starts_with(".logs.");
+  }
+  EXPECT_TRUE(staged);
+  // ...and the logs are the ones before, every file of them.
+  EXPECT_EQ(DirectoryContents(Path("logs")), before);
+}
+
+// The size synth-forces states before writing is what it writes, within
+// 3 %, as separate logs and as one combined log (at a rate above the one
+// the estimate samples, so it extrapolates).
+TEST_F(FitCommandTest, SynthForcesStatesTheSizeItWrites) {
+  for (const bool combined : {false, true}) {
+    SyntheticForceLogsOptions options;
+    options.synthetic.sample_rate_hz = combined ? 150.0 : 40.0;
+    options.combined = combined;
+    options.progress = false;
+    const SyntheticForceLogsSize size = EstimateSyntheticForceLogs(options);
+    const std::string directory = Path(combined ? "combined" : "separate");
+    const SyntheticForceLogs written =
+        WriteSyntheticForceLogs(directory, options);
+    EXPECT_EQ(size.tests, written.tests);
+    EXPECT_EQ(size.rows, written.rows);
+    int64_t bytes = 0;
+    for (const auto& entry : fs::directory_iterator(directory)) {
+      if (entry.path().extension() == ".csv") bytes += entry.file_size();
+    }
+    EXPECT_NEAR(static_cast<double>(size.bytes), static_cast<double>(bytes),
+                0.03 * static_cast<double>(bytes))
+        << (combined ? "combined" : "separate");
+  }
+  std::string err;
+  ASSERT_EQ(RunProgram("synth-forces --rate 40 --out " + Path("said"), &err),
+            0);
+  EXPECT_NE(err.find("writing 54 tests, "), std::string::npos) << err;
+  EXPECT_NE(err.find(" MB, to " + Path("said")), std::string::npos) << err;
+}
+
 TEST_F(FitCommandTest, SaysWhyConstantsCannotBeFitted) {
   // Only the tests at theta = 0 of the synthetic set.
   const std::string manifest_path = Synthesize("logs", false);
-  ForceLogManifest manifest = LoadForceLogManifest(manifest_path);
-  ForceLogManifest zero_angle;
-  zero_angle.columns = manifest.columns;
-  for (size_t t = 0; t < manifest.tests.size(); ++t) {
-    if (manifest.tests[t].nominal_theta_rad == 0.0) {
-      zero_angle.tests.push_back(manifest.tests[t]);
-      zero_angle.files.push_back(manifest.files[t]);
-    }
-  }
-  std::ofstream(Path("zero_angle.yaml"))
-      << ForceLogManifestYaml(zero_angle, "kpa", "");
-  FitCommandOptions options = Fit(Path("zero_angle.yaml"));
+  FitCommandOptions options =
+      Fit(ZeroAngleManifest(manifest_path, Path("zero_angle.yaml")));
   options.output_path = Path("constants.yaml");
   std::ostringstream out;
   try {
@@ -151,6 +227,33 @@ TEST_F(FitCommandTest, SaysWhyConstantsCannotBeFitted) {
   EXPECT_FALSE(fs::exists(options.output_path));
   // The baseline has no angle terms and is still fitted and printed.
   EXPECT_NE(out.str().find("pressurized-spring"), std::string::npos);
+}
+
+// With the rig's imperfections the measured angles of the theta = 0 tests
+// jitter by tenths of a degree: W_y and k_theta then get numbers with
+// plausible standard errors that mean nothing, and must not be written.
+TEST_F(FitCommandTest, RefusesBendConstantsFromTestsThatNeverBent) {
+  SynthForcesCommandOptions synth;
+  synth.output_directory = Path("rig");
+  synth.quiet = true;
+  // Enough rows that the jitter's fit looks precise (8 % standard error).
+  synth.synthetic.sample_rate_hz = 200.0;
+  std::ostringstream out;
+  ASSERT_EQ(RunSynthForces(synth, out), 0);
+  FitCommandOptions options = Fit(ZeroAngleManifest(
+      Path("rig/manifest.yaml"), Path("rig/zero_angle.yaml")));
+  options.output_path = Path("constants.yaml");
+  try {
+    RunFit(options, out);
+    ADD_FAILURE() << "W_y and k_theta from tests that never bent were written";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "W_y and k_theta, which act through the bend, are not "
+                  "identifiable"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(options.output_path));
 }
 
 TEST_F(FitCommandTest, NamesTheManifestLineOfABadEntry) {

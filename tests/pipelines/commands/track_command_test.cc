@@ -1,5 +1,5 @@
-// The measurement commands: track, tune and calibrate-camera, on a short
-// rendered clip, and their messages for bad input.
+// The measurement commands track and tune, on a short rendered clip, and
+// their messages for bad input.
 #include "pipelines/commands/track_command.h"
 
 #include <gtest/gtest.h>
@@ -10,10 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "pipelines/commands/calibrate_camera_command.h"
 #include "pipelines/commands/render_command.h"
 #include "pipelines/commands/tune_command.h"
-#include "tests/vision/board_images.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -248,44 +246,6 @@ TEST_F(TrackCommandTest, TuneRejectsAnUnknownColour) {
               std::string::npos)
         << e.what();
   }
-}
-
-TEST_F(TrackCommandTest, CalibrateCameraFromImagesWritesIntrinsics) {
-  CameraIntrinsics truth =
-      CameraIntrinsics::FromEquivalentFocalLength(52.0, 1280, 720);
-  truth.distortion[0] = -0.1;
-  const BoardRenderer boards(truth, 9, 6, 20.0);
-  fs::create_directories(Path("boards"));
-  int seed = 1;
-  for (const Camera& view : BoardViews(truth, 600.0)) {
-    cv::imwrite(Path("boards/view" + std::to_string(seed) + ".png"),
-                boards.Render(view, 0.6, seed));
-    ++seed;
-  }
-  CalibrateCameraCommandOptions options;
-  options.images_dir = Path("boards");
-  options.square_mm = 20.0;
-  options.output_path = Path("camera.yaml");
-  std::ostringstream out;
-  ASSERT_EQ(RunCalibrateCamera(options, out), 0);
-  EXPECT_NE(out.str().find("reprojection error"), std::string::npos);
-  std::ifstream yaml(options.output_path);
-  std::stringstream text;
-  text << yaml.rdbuf();
-  EXPECT_NE(text.str().find("camera_matrix"), std::string::npos);
-  EXPECT_NE(text.str().find("distortion_coefficients"), std::string::npos);
-
-  options.board = "7x5";  // the wrong board: too few views
-  options.output_path = Path("camera_wrong.yaml");
-  try {
-    RunCalibrateCamera(options, out);
-    FAIL() << "calibrated without boards";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("fewer than 5; film it"),
-              std::string::npos)
-        << e.what();
-  }
-  EXPECT_FALSE(fs::exists(options.output_path));
 }
 
 }  // namespace

@@ -2,11 +2,7 @@
 // (empty included), answers through `main` with one line that lists the
 // known names, and exit code 2 (docs/error-policy.md).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,22 +16,7 @@ struct Case {
   std::string expected;   // the whole message after "softbench: error: "
 };
 
-class UnknownNamesTest : public ScratchDirectoryTest {
- protected:
-  // Runs the program; returns its exit code and stderr.
-  int Run(const std::string& arguments, std::string* stderr_text) const {
-    const std::string err = Path("stderr.txt");
-    const std::string command = std::string(SOFTBENCH_BINARY) + " " +
-                                arguments + " > " + Path("stdout.txt") +
-                                " 2> " + err;
-    const int status = std::system(command.c_str());
-    std::ifstream stream(err);
-    std::stringstream text;
-    text << stream.rdbuf();
-    *stderr_text = text.str();
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-};
+using UnknownNamesTest = ScratchDirectoryTest;
 
 TEST_F(UnknownNamesTest, EachGetsOneLineListingTheKnownNames) {
   const std::string samples = std::string(SOFTBENCH_SOURCE_DIR) + "/samples";
@@ -57,9 +38,9 @@ TEST_F(UnknownNamesTest, EachGetsOneLineListingTheKnownNames) {
        "path of a mechanism YAML file"},
       {"workspace --max 6 --step 3 --pressure-unit ''",
        "--pressure-unit: '' is not a unit; use psi, kpa or mpa"},
-      {"synth-forces --output " + Path("logs") + " --variant exact",
+      {"synth-forces --out " + Path("logs") + " --variant exact",
        "--variant: 'exact' is not a variant; " + variants},
-      {"synth-forces --output " + Path("logs") + " --pressure-unit bar",
+      {"synth-forces --out " + Path("logs") + " --pressure-unit bar",
        "--pressure-unit: 'bar' is not a unit; use psi, kpa or mpa"},
       {"tune " + samples + "/delta/delta.mp4 --color purple",
        "--color: 'purple' is not red, green, blue, yellow or magenta"},
@@ -69,7 +50,7 @@ TEST_F(UnknownNamesTest, EachGetsOneLineListingTheKnownNames) {
   };
   for (const Case& c : cases) {
     std::string err;
-    EXPECT_EQ(Run(c.arguments, &err), 2) << c.arguments << "\n" << err;
+    EXPECT_EQ(RunProgram(c.arguments, &err), 2) << c.arguments << "\n" << err;
     EXPECT_EQ(err, "softbench: error: " + c.expected + "\n") << c.arguments;
   }
 }

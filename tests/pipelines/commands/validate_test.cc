@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <sstream>
 
 #include "pipelines/commands/predict_command.h"
@@ -327,6 +328,33 @@ class ValidateCommandTest : public ScratchDirectoryTest {
     options.quiet = true;
     return options;
   }
+  // Validates the delta sample's video against its plan with `from`
+  // replaced by `to`; returns the InputError's message ("" when it was
+  // accepted) and checks that nothing was written.
+  std::string ErrorWithEditedDeltaPlan(std::string_view from,
+                                       std::string_view to) {
+    std::string plan =
+        Read(std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/plan.yaml");
+    EXPECT_NE(plan.find(from), std::string::npos) << from;
+    if (plan.find(from) != std::string::npos) {
+      plan.replace(plan.find(from), from.size(), to);
+    }
+    ValidateCommandOptions options;
+    options.video_paths = {std::string(SOFTBENCH_SOURCE_DIR) +
+                           "/samples/delta/delta.mp4"};
+    options.plan_path = Write("plan.yaml", plan);
+    options.output_directory = Path("report");
+    options.quiet = true;
+    std::ostringstream out;
+    std::string message;
+    try {
+      RunValidate(options, out);
+    } catch (const InputError& e) {
+      message = e.what();
+    }
+    EXPECT_FALSE(fs::exists(Path("report")));
+    return message;
+  }
 };
 
 TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
@@ -531,6 +559,17 @@ tests:
   EXPECT_FALSE(fs::exists(Path("report")));
 }
 
+// A dot plane at or behind the camera (a height in the wrong unit, say) is
+// refused once the tag shows where the camera is, before any measurement.
+TEST_F(ValidateCommandTest, RefusesADotPlaneBehindTheCamera) {
+  const std::string message =
+      ErrorWithEditedDeltaPlan("plane_offset_mm: 16", "plane_offset_mm: 16000");
+  EXPECT_NE(message.find("plan.yaml: calibration.plane_offset_mm: 16000 mm "
+                         "puts the dots' plane at or behind the camera"),
+            std::string::npos)
+      << message;
+}
+
 TEST_F(ValidateCommandTest, WindowsOnlyNeedsThePlansTimes) {
   ValidateCommandOptions options;
   options.video_paths = {std::string(SOFTBENCH_SOURCE_DIR) +
@@ -654,27 +693,70 @@ TEST_F(ValidateCommandTest, SeveralVideosGetOneReportEachAndAnIndex) {
 }
 
 TEST_F(ValidateCommandTest, RefusesAPlanWithSomeTimesAndWritesNothing) {
+  const std::string message =
+      ErrorWithEditedDeltaPlan("pressures: [6, 6, 0]}",
+                               "pressures: [6, 6, 0], actuate_s: 2, "
+                               "release_s: 7}");
+  EXPECT_NE(message.find("some tests have times and some do not"),
+            std::string::npos)
+      << message;
+}
+
+}  // namespace
+}  // namespace softbench
+
+namespace softbench {
+namespace {
+
+// The bench ran t2a and t3a in each other's place (the plan lists them the
+// other way round): both are named and not scored, the statistics over the
+// rest stay right, the exit status says so, and nothing is flagged as
+// hysteresis; a test the plan marks skipped is reported as such.
+TEST_F(ValidateCommandTest, NamesTestsThatDoNotMoveAsTheirPlanEntries) {
+  const std::string sample = std::string(SOFTBENCH_SOURCE_DIR) + "/samples";
+  std::string plan = Read(sample + "/delta/rendered.plan.yaml");
+  const auto swap = [&](const std::string& a, const std::string& b) {
+    const size_t i = plan.find(a), j = plan.find(b);
+    ASSERT_NE(i, std::string::npos);
+    ASSERT_NE(j, std::string::npos);
+    plan.replace(j, b.size(), a);
+    plan.replace(i, a.size(), b);
+  };
+  swap("pressures: [6, 3, 0]", "pressures: [6, 0, 0]");  // t2a <-> t3a
+  plan += "  - {id: extra, pressures: [1, 1, 1], skipped: true}\n";
   ValidateCommandOptions options;
-  options.video_paths = {std::string(SOFTBENCH_SOURCE_DIR) +
-                         "/samples/delta/delta.mp4"};
-  std::string plan =
-      Read(std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta/plan.yaml");
-  plan.replace(plan.find("pressures: [6, 6, 0]}"), 21,
-               "pressures: [6, 6, 0], actuate_s: 2, release_s: 7}");
+  options.video_paths = {sample + "/delta/delta.mp4"};
   options.plan_path = Write("plan.yaml", plan);
   options.output_directory = Path("report");
+  options.windows_only = true;
   options.quiet = true;
   std::ostringstream out;
-  try {
-    RunValidate(options, out);
-    ADD_FAILURE() << "a plan with some times was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(
-        std::string(e.what()).find("some tests have times and some do not"),
-        std::string::npos)
-        << e.what();
+  EXPECT_EQ(RunValidate(options, out), kExitTestsDoNotMatchPlan);
+  EXPECT_NE(out.str().find("not scored, their motion does not fit their plan "
+                           "entries: t2a, t3a"),
+            std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("skipped on the bench (as the plan says): extra"),
+            std::string::npos)
+      << out.str();
+  CsvReader results(Path("report/results.csv"));
+  const int id = results.ColumnIndex("test_id");
+  const int status = results.ColumnIndex("status");
+  std::vector<std::string_view> fields;
+  std::map<std::string, std::string> statuses;
+  while (results.ReadRow(&fields)) {
+    statuses[std::string(fields[id])] = std::string(fields[status]);
   }
-  EXPECT_FALSE(fs::exists(Path("report")));
+  EXPECT_EQ(statuses["t2a"], "mismatch");
+  EXPECT_EQ(statuses["t3a"], "mismatch");
+  EXPECT_EQ(statuses["extra"], "skipped");
+  EXPECT_EQ(statuses["t2b"], "ok");
+  const std::string summary = Read(Path("report/summary.json"));
+  EXPECT_NE(summary.find("\"skipped_tests\""), std::string::npos);
+  EXPECT_NE(out.str().find("model error mean 0.00"), std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("hysteresis above 0.05 mm: none"), std::string::npos)
+      << out.str();
 }
 
 }  // namespace

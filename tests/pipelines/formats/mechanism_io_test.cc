@@ -98,6 +98,19 @@ TEST(MechanismIo, ErrorsNameTheLineAndTheField) {
             std::string::npos);
   EXPECT_NE(ErrorOf("- 1\n- 2\n").find("a mechanism file is a map"),
             std::string::npos);
+
+  yaml = std::string(kValid) +
+         "  - {name: '1', rotation_deg: 0, anchor: a, head: h}\n";
+  EXPECT_EQ(
+      ErrorOf(yaml).rfind("m.yaml:8: name: actuator '1' is named twice", 0), 0)
+      << ErrorOf(yaml);
+  yaml = std::string(kValid) + "actuators: []\n";
+  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:8: actuators: given twice", 0), 0)
+      << ErrorOf(yaml);
+  yaml = kValid;
+  yaml.replace(yaml.find("- {name: h, rest_mm: [0, 0]}"), 28, "- h");
+  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:3: heads entry: must be a map", 0), 0)
+      << ErrorOf(yaml);
 }
 
 TEST(MechanismIo, UnknownNameOrMissingFileSaysWhatToGive) {
@@ -117,8 +130,9 @@ namespace softbench {
 namespace {
 
 TEST(MechanismIo, DocumentedExampleParsesAndSolves) {
-  const std::string doc = ReadTextFile(
-      std::string(SOFTBENCH_SOURCE_DIR) + "/docs/file-formats.md", "doc");
+  const std::string doc =
+      ReadTextFile(std::string(SOFTBENCH_SOURCE_DIR) + "/docs/file-formats.md",
+                   "doc", 1 << 20);
   const size_t begin = doc.find("```yaml\n") + 8;
   const std::string yaml = doc.substr(begin, doc.find("```", begin) - begin);
   const Mechanism chain = ParseMechanismYaml(yaml, "docs/file-formats.md");

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "util/input_error.h"
 #include "util/text_file.h"
 
@@ -40,9 +43,15 @@ TEST(TestPlan, RoundTripsThroughItsYaml) {
   const TestPlan plan = ParseTestPlan(
       std::string(kBase) +
           "  - {id: t1, pressures: [1, 2, 3, 4, 5], actuate_s: 1, release_s: 4,"
-          " residual_offset_mm: [0.1, 0]}\n",
+          " residual_offset_mm: [0.1, 0]}\n"
+          "  - {id: t2, pressures: [1, 0, 0, 0, 0], skipped: true}\n",
       "p.yaml");
+  ASSERT_EQ(plan.tests.size(), 1u);  // a skipped test is not a test point
+  ASSERT_EQ(plan.skipped_tests.size(), 1u);
+  EXPECT_TRUE(plan.HasTimes());
   const TestPlan again = ParseTestPlan(TestPlanToYaml(plan, "."), "again.yaml");
+  ASSERT_EQ(again.skipped_tests.size(), 1u);
+  EXPECT_EQ(again.skipped_tests[0].id, "t2");
   EXPECT_EQ(again.tests[0].pressures, plan.tests[0].pressures);
   EXPECT_EQ(*again.tests[0].release_s, 4.0);
   EXPECT_EQ(again.tests[0].residual_offset_mm,
@@ -96,6 +105,73 @@ TEST(TestPlan, ErrorsNameTheLineAndSayWhatToChange) {
             std::string::npos);
 }
 
+// Every wrong shape yaml-cpp would otherwise report as its own exception
+// (no file name) is a located error naming the key.
+TEST(TestPlan, WrongShapesAreLocatedErrorsNeverYamlCppExceptions) {
+  const std::string head = "mechanism: delta\npressure_unit: psi\n";
+  const std::string tests = "tests:\n  - {id: a, pressures: [1, 1, 1]}\n";
+  const struct {
+    std::string yaml, expected;
+  } cases[] = {
+      {head + "calibration: 5\n" + tests,
+       "plan.yaml:3: calibration: must be a map of key: value"},
+      {head + "scene: [1, 2]\n" + tests,
+       "plan.yaml:3: scene: must be a map of key: value"},
+      {head + "windows: 3\n" + tests,
+       "plan.yaml:3: windows: must be a map of key: value"},
+      {head + "calibration: {tag: [1]}\n" + tests,
+       "plan.yaml:3: tag: must be a map of key: value"},
+      {head + "tests:\n  - 5\n", "plan.yaml:4: tests entry: must be a map"},
+      {head + "markers:\n  - red\n" + tests,
+       "plan.yaml:4: markers entry: must be a map"},
+      {head + "? [a, b]\n: 1\n" + tests,
+       "plan.yaml:3: test plan: keys must be plain names"},
+      {head + "pressure_unit: kpa\n" + tests,
+       "plan.yaml:3: pressure_unit: given twice; keep one"},
+      {"mechanism: {a: 1}\npressure_unit: psi\n" + tests,
+       "plan.yaml:1: mechanism: must be a non-empty name"},
+      {head + "tests:\n  - {id: a, pressures: [1, 1, 1]}\n"
+              "  - {id: a, pressures: [2, 1, 1]}\n",
+       "plan.yaml:5: id: 'a' is used twice"},
+      {head + "tests:\n  - {id: \"a\\0b\", pressures: [1, 1, 1]}\n",
+       "plan.yaml:4: id: 'a' holds control character 0x00"},
+      {head + "tests:\n  - {id: \"a\\nb\", pressures: [1, 1, 1]}\n",
+       "plan.yaml:4: id: 'a' holds control character 0x0A"},
+      {head + "x: " + std::string(100000, '[') + std::string(100000, ']') +
+           "\n" + tests,
+       "plan.yaml:3: not valid YAML"},
+      // Names the file system refuses (longer than a file name may be) are
+      // missing files, not file-system exceptions.
+      {"mechanism: " + std::string(300, 'm') + "\npressure_unit: psi\n" + tests,
+       "plan.yaml:1: mechanism: mechanism '" + std::string(300, 'm') +
+           "': no such mechanism"},
+      {head + "constants: " + std::string(300, 'c') + ".yaml\n" + tests,
+       "plan.yaml:3: constants: "},
+  };
+  for (const auto& c : cases) {
+    EXPECT_NE(ErrorOf(c.yaml).find(c.expected), std::string::npos)
+        << ErrorOf(c.yaml) << "\nfor:\n"
+        << c.yaml.substr(0, 200);
+  }
+}
+
+TEST(TestPlan, LoadRefusesDevicesAndHugeFilesBeforeReading) {
+  EXPECT_THROW(LoadTestPlan("/dev/zero"), InputError);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "softbench_huge_plan.yaml")
+          .string();
+  std::ofstream(path) << "mechanism: delta\n# " << std::string(5 << 20, 'x')
+                      << "\n";
+  try {
+    LoadTestPlan(path);
+    FAIL() << "a 5 MB plan was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is too large for a test plan"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(TestPlan, MeasurementKeysRoundTrip) {
   const TestPlan plan = ParseTestPlan(
       "mechanism: delta\npressure_unit: psi\ncalibration:\n"
@@ -115,8 +191,9 @@ TEST(TestPlan, MeasurementKeysRoundTrip) {
 }
 
 TEST(TestPlan, DocumentedExampleParses) {
-  const std::string doc = ReadTextFile(
-      std::string(SOFTBENCH_SOURCE_DIR) + "/docs/file-formats.md", "doc");
+  const std::string doc =
+      ReadTextFile(std::string(SOFTBENCH_SOURCE_DIR) + "/docs/file-formats.md",
+                   "doc", 1 << 20);
   const size_t section = doc.find("## Test plan");
   const size_t begin = doc.find("```yaml\n", section) + 8;
   const TestPlan plan =

@@ -1,0 +1,105 @@
+#include "pipelines/commands/common_flags.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include "util/input_error.h"
+
+namespace softbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The folder `path` is written into: its parent, or "." for a bare name.
+fs::path FolderOf(const fs::path& path) {
+  fs::path target = path;
+  if (!target.has_filename()) target = target.parent_path();
+  return target.has_parent_path() ? target.parent_path() : fs::path(".");
+}
+
+void CheckWritableFolder(const fs::path& folder, const std::string& path,
+                         const std::string& option) {
+  std::error_code error;
+  if (!fs::is_directory(folder, error)) {
+    throw InputError(option + ": " + path + ": folder '" + folder.string() +
+                     "' does not exist; create it or choose another path");
+  }
+  // Create and remove a file there: permission bits alone do not tell
+  // (root passes access(2); /proc and read-only mounts refuse anyway).
+  std::string probe = (folder / ".softbench-write-check-XXXXXX").string();
+  const int fd = mkstemp(probe.data());
+  if (fd < 0) {
+    throw InputError(option + ": " + path + ": folder '" + folder.string() +
+                     "' is not writable (" + std::strerror(errno) +
+                     "); choose another path");
+  }
+  close(fd);
+  unlink(probe.c_str());
+}
+
+}  // namespace
+
+void AddPlanOption(CLI::App* command, std::string* path) {
+  command->add_option("--plan", *path, "test plan YAML")->required();
+}
+
+CLI::Option* AddOutOption(CLI::App* command, std::string* path,
+                          const std::string& what) {
+  return command->add_option("--out", *path, what);
+}
+
+void AddThreadsOption(CLI::App* command, int* threads) {
+  command->add_option("--threads", *threads, "worker threads (0: all cores)")
+      ->capture_default_str();
+}
+
+void AddRestOption(CLI::App* command, double* rest_s) {
+  command
+      ->add_option("--rest-s", *rest_s,
+                   "plan without times: seconds at rest at the video's start")
+      ->capture_default_str();
+}
+
+void AddNoRegistrationFlag(CLI::App* command, bool* no_registration) {
+  command->add_flag("--no-registration", *no_registration,
+                    "take the camera to be still instead of registering "
+                    "every frame to the bench (the thesis's method)");
+}
+
+void AddDecimalCommaFlag(CLI::App* command, bool* decimal_comma) {
+  command->add_flag("--decimal-comma", *decimal_comma,
+                    "the CSVs write numbers with a decimal comma (6,5) and "
+                    "separate fields with ';' or tabs, as spreadsheets in "
+                    "many locales export them");
+}
+
+DecimalMark DecimalMarkFromFlag(bool decimal_comma) {
+  return decimal_comma ? DecimalMark::kComma : DecimalMark::kPoint;
+}
+
+void CheckOutputFile(const std::string& path, const std::string& option) {
+  if (path == "-") return;
+  if (path.empty()) throw InputError(option + ": give a file name");
+  std::error_code error;
+  if (fs::is_directory(path, error)) {
+    throw InputError(option + ": " + path +
+                     " is a folder; give a file name inside it");
+  }
+  CheckWritableFolder(FolderOf(path), path, option);
+}
+
+void CheckOutputDirectory(const std::string& path, const std::string& option) {
+  if (path.empty()) throw InputError(option + ": give a folder name");
+  std::error_code error;
+  if (fs::exists(path, error) && !fs::is_directory(path, error)) {
+    throw InputError(option + ": " + path +
+                     " exists and is not a folder; choose another name");
+  }
+  CheckWritableFolder(FolderOf(path), path, option);
+}
+
+}  // namespace softbench

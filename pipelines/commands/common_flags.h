@@ -1,0 +1,42 @@
+#ifndef SOFTBENCH_PIPELINES_COMMANDS_COMMON_FLAGS_H_
+#define SOFTBENCH_PIPELINES_COMMANDS_COMMON_FLAGS_H_
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "util/csv.h"
+
+namespace softbench {
+
+// The options several commands share, each defined once here so its name,
+// help text and checks are the same in every command: a command's input is
+// a positional argument, its plan is --plan, and what it writes is --out.
+
+// --plan: the test plan YAML (required).
+void AddPlanOption(CLI::App* command, std::string* path);
+// --out: what the command writes; `what` says what it is.
+CLI::Option* AddOutOption(CLI::App* command, std::string* path,
+                          const std::string& what);
+// --threads: worker threads, 0 for one per core.
+void AddThreadsOption(CLI::App* command, int* threads);
+// --rest-s: seconds at rest at the video's start, for plans without times.
+void AddRestOption(CLI::App* command, double* rest_s);
+// --no-registration: take the camera to be still.
+void AddNoRegistrationFlag(CLI::App* command, bool* no_registration);
+// --decimal-comma: the input CSVs write numbers as 6,5 (fields separated by
+// ';' or tabs); without it a decimal comma is refused, never guessed.
+void AddDecimalCommaFlag(CLI::App* command, bool* decimal_comma);
+// The decimal mark the flag declares.
+DecimalMark DecimalMarkFromFlag(bool decimal_comma);
+
+// Checks, before any work, that a file can be written at `path` ('-' is
+// standard output): its folder exists and is writable and `path` is not a
+// folder. `option` names the flag in the InputError.
+void CheckOutputFile(const std::string& path, const std::string& option);
+// The same for a directory written whole (a report): `path` is a folder or
+// does not exist yet, and its parent folder is writable.
+void CheckOutputDirectory(const std::string& path, const std::string& option);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_COMMANDS_COMMON_FLAGS_H_

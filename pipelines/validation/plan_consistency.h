@@ -1,0 +1,28 @@
+#ifndef SOFTBENCH_PIPELINES_VALIDATION_PLAN_CONSISTENCY_H_
+#define SOFTBENCH_PIPELINES_VALIDATION_PLAN_CONSISTENCY_H_
+
+#include <string>
+#include <vector>
+
+#include "pipelines/validation/validation.h"
+
+namespace softbench {
+
+// Checks that each measured test moved as its own plan entry predicts, so a
+// test skipped, repeated or swapped on the bench, or times that are off, is
+// named instead of being scored against another test's pressures. A test
+// fails the check when its measured displacement is
+//  - grossly far from its own prediction (beyond both
+//    options.mismatch_min_mm and options.mismatch_fraction of the predicted
+//    motion: far above any model error the thesis reports), or
+//  - far closer to another entry's prediction (with other pressures) than to
+//    its own (options.better_match_ratio, options.better_match_margin_mm).
+// Each such test gets matches_plan = false, status "mismatch" and a reason
+// naming the entry it fits instead, if any; returns one warning per test,
+// and a summary line when several do not fit.
+std::vector<std::string> CheckPlanConsistency(const ValidationOptions& options,
+                                              std::vector<TestScore>* tests);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_VALIDATION_PLAN_CONSISTENCY_H_

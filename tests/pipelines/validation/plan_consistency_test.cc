@@ -1,0 +1,129 @@
+#include "pipelines/validation/plan_consistency.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace softbench {
+namespace {
+
+// `count` plan entries with distinct pressures and predictions 0.3-1.5 mm
+// long in random directions (one head), measured exactly.
+std::vector<TestScore> Entries(int count, std::mt19937* random) {
+  std::uniform_real_distribution<double> length(0.3, 1.5), angle(-3.14, 3.14);
+  std::vector<TestScore> tests(count);
+  for (int i = 0; i < count; ++i) {
+    TestScore& t = tests[i];
+    t.id = "t" + std::to_string(i + 1);
+    t.pressures = Eigen::Vector3d(i, 1, 0);
+    t.measured = true;
+    t.status = "ok";
+    const double a = angle(*random);
+    t.heads.resize(1);
+    t.heads[0].model_mm =
+        length(*random) * Eigen::Vector2d(std::cos(a), std::sin(a));
+    t.heads[0].measured_mm = t.heads[0].model_mm;
+  }
+  return tests;
+}
+
+std::vector<std::string> Mismatched(const std::vector<TestScore>& tests) {
+  std::vector<std::string> ids;
+  for (const TestScore& t : tests) {
+    if (!t.matches_plan) {
+      EXPECT_EQ(t.status, "mismatch");
+      EXPECT_FALSE(t.scored());
+      ids.push_back(t.id);
+    }
+  }
+  return ids;
+}
+
+TEST(PlanConsistency, NeverFlagsModelErrorsUpToThreeTenthsOfAMillimetre) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> error(-0.21, 0.21);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<TestScore> tests = Entries(14, &random);
+    for (TestScore& t : tests) {
+      t.heads[0].measured_mm += Eigen::Vector2d(error(random), error(random));
+    }
+    EXPECT_TRUE(CheckPlanConsistency(ValidationOptions(), &tests).empty());
+    EXPECT_TRUE(Mismatched(tests).empty()) << "trial " << trial;
+  }
+}
+
+TEST(PlanConsistency, NamesTwoSwappedTestsAndTheEntriesTheyFit) {
+  std::mt19937 random(12);
+  std::vector<TestScore> tests = Entries(8, &random);
+  // The bench ran t3 and t6 in each other's place.
+  std::swap(tests[2].heads[0].measured_mm, tests[5].heads[0].measured_mm);
+  const double gap =
+      (tests[2].heads[0].model_mm - tests[5].heads[0].model_mm).norm();
+  ASSERT_GT(gap, 0.4) << "pick a seed whose swapped entries differ";
+  const std::vector<std::string> warnings =
+      CheckPlanConsistency(ValidationOptions(), &tests);
+  EXPECT_EQ(Mismatched(tests), (std::vector<std::string>{"t3", "t6"}));
+  EXPECT_NE(
+      tests[2].reason.find("within 0.000 mm of the prediction for test t6"),
+      std::string::npos)
+      << tests[2].reason;
+  ASSERT_EQ(warnings.size(), 3u);
+  EXPECT_NE(warnings.back().find("2 of 8 tests do not move as their plan "
+                                 "entries predict (t3, t6)"),
+            std::string::npos)
+      << warnings.back();
+}
+
+TEST(PlanConsistency, FlagsEveryTestAfterOneTheBenchSkipped) {
+  std::mt19937 random(13);
+  std::vector<TestScore> tests = Entries(10, &random);
+  // The bench skipped t4: each later test shows the next entry's motion.
+  for (int i = 3; i < 9; ++i) {
+    tests[i].heads[0].measured_mm = tests[i + 1].heads[0].model_mm;
+  }
+  tests[9].measured = false;  // one movement short: the last is not measured
+  CheckPlanConsistency(ValidationOptions(), &tests);
+  const std::vector<std::string> flagged = Mismatched(tests);
+  // Entries whose neighbour happens to predict nearly the same motion may
+  // pass; the rest must not.
+  int separable = 0;
+  for (int i = 3; i < 9; ++i) {
+    const double gap =
+        (tests[i].heads[0].model_mm - tests[i + 1].heads[0].model_mm).norm();
+    if (gap > 0.5) {
+      ++separable;
+      EXPECT_NE(std::find(flagged.begin(), flagged.end(), tests[i].id),
+                flagged.end())
+          << tests[i].id << " moved like the next entry (" << gap
+          << " mm from its own) but was scored";
+    }
+  }
+  EXPECT_GE(separable, 3);
+  EXPECT_EQ(std::count(flagged.begin(), flagged.end(), "t3"), 0);
+}
+
+TEST(PlanConsistency, FlagsAHeadThatStayedAtRestWhenItShouldHaveMoved) {
+  std::mt19937 random(14);
+  std::vector<TestScore> tests = Entries(4, &random);
+  tests[1].heads[0].model_mm = Eigen::Vector2d(0.0, 1.3);
+  tests[1].heads[0].measured_mm = Eigen::Vector2d(0.01, -0.01);  // times off
+  CheckPlanConsistency(ValidationOptions(), &tests);
+  EXPECT_EQ(Mismatched(tests), (std::vector<std::string>{"t2"}));
+  EXPECT_NE(tests[1].reason.find("its motion is 1.3"), std::string::npos)
+      << tests[1].reason;
+}
+
+TEST(PlanConsistency, RepeatsWithTheSamePressuresAreNotOtherEntries) {
+  std::mt19937 random(15);
+  std::vector<TestScore> tests = Entries(4, &random);
+  tests[3].pressures = tests[0].pressures;  // t4 repeats t1
+  tests[3].heads[0].model_mm = tests[0].heads[0].model_mm;
+  tests[3].heads[0].measured_mm = tests[0].heads[0].model_mm;
+  CheckPlanConsistency(ValidationOptions(), &tests);
+  EXPECT_TRUE(Mismatched(tests).empty());
+}
+
+}  // namespace
+}  // namespace softbench
