@@ -293,6 +293,11 @@ std::vector<ForceTest> ReadCombinedForceLog(const std::string& path,
         test.measured_theta_rad = DegToRad(
             configuration_number(measured_theta_column, "measured_theta_deg"));
       }
+      if (const auto problem = ImplausibleConfiguration(
+              test.delta_length_mm(), RadToDeg(test.theta_rad()))) {
+        throw InputError(
+            fmt::format("{}test '{}': {}", reader.Where(), id, *problem));
+      }
       configuration_text.clear();
       for (int column : configuration_columns) {
         configuration_text.emplace_back(column >= 0 ? parser.fields()[column]

@@ -84,4 +84,18 @@ ForceTestStatistics ForceTestAccumulator::Statistics() const {
   return statistics;
 }
 
+std::optional<std::string> ImplausibleConfiguration(double delta_length_mm,
+                                                    double theta_deg) {
+  if (std::abs(theta_deg) >= 90.0) {
+    return "a bend of " + std::to_string(theta_deg) +
+           " deg folds the actuator back past its clamp; give the angle in "
+           "degrees, within -90..90";
+  }
+  if (std::abs(delta_length_mm) >= 100.0) {
+    return "a length change of " + std::to_string(delta_length_mm) +
+           " mm is beyond any bellows actuator; give it in millimetres";
+  }
+  return std::nullopt;
+}
+
 }  // namespace softbench

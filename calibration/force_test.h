@@ -88,6 +88,15 @@ struct ForceTest {
   }
 };
 
+// Why (dL [mm], theta [deg]) cannot be where a test clamped the actuator, or
+// nothing: a bend of 90 deg or more folds the actuator back past its clamp,
+// where the model's geometry (Eq. 2.16-3.3) means nothing, and a stretch of
+// 100 mm or more is a unit slip (micrometres?) for a bellows about 18.5 mm
+// long. The thesis tests -3..3 mm and 0..30 deg (section 3.2; parts failed
+// beyond 50 deg).
+std::optional<std::string> ImplausibleConfiguration(double delta_length_mm,
+                                                    double theta_deg);
+
 }  // namespace softbench
 
 #endif  // SOFTBENCH_CALIBRATION_FORCE_TEST_H_

@@ -97,7 +97,7 @@ CsvReader::CsvReader(const std::string& path, DecimalMark decimal_mark)
     : path_(path), file_(nullptr, &std::fclose), decimal_mark_(decimal_mark) {
   // A buffer of 1 MiB streams a long log at memory speed; a short file (a
   // pressure table) gets one its size instead of a megabyte to clear.
-  const int64_t bytes = CheckInputFile(path, "CSV file");
+  const int64_t bytes = CheckInputFile(path, "CSV");
   buffer_.resize(static_cast<size_t>(
       std::clamp<int64_t>(bytes + 1, int64_t{4} << 10, int64_t{1} << 20)));
   file_.reset(std::fopen(path.c_str(), "rb"));
@@ -123,7 +123,14 @@ CsvReader::CsvReader(const std::string& path, DecimalMark decimal_mark)
   }
   std::vector<std::string_view> fields;
   SplitLine(&fields);
-  for (std::string_view field : fields) header_.emplace_back(field);
+  for (std::string_view field : fields) {
+    if (!field.empty() &&
+        std::find(header_.begin(), header_.end(), field) != header_.end()) {
+      throw InputError(fmt::format("{}column '{}' is given twice; keep one",
+                                   Where(), field));
+    }
+    header_.emplace_back(field);
+  }
 }
 
 int CsvReader::ColumnIndex(std::string_view name) const {

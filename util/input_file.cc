@@ -48,8 +48,9 @@ int64_t CheckInputFile(const std::string& path, std::string_view what,
     throw InputError(fmt::format("{}: no such {}; check the path", path, what));
   }
   if (!fs::is_regular_file(status)) {
-    throw InputError(fmt::format("{}: is {}, not a {} file; give the {}'s path",
-                                 path, KindOf(status.type()), what, what));
+    throw InputError(
+        fmt::format("{}: is {}, not a regular file; give the {}'s path", path,
+                    KindOf(status.type()), what));
   }
   const auto size = static_cast<int64_t>(fs::file_size(path, error));
   if (error) {

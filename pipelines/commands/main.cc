@@ -29,6 +29,18 @@ std::string CommandLineError(const CLI::App* app, const CLI::Error& error) {
   for (const CLI::App* subcommand : app->get_subcommands()) {
     help = "softbench " + subcommand->get_name() + " --help";
   }
+  // No command parsed although a word was given: the word is not a command
+  // (CLI11 would only say that one is required).
+  const std::vector<std::string> extras = app->remaining();
+  if (app->get_subcommands().empty() && !extras.empty()) {
+    std::string names;
+    for (const softbench::Command& command : softbench::Commands()) {
+      names += (names.empty() ? "" : ", ") + std::string(command.name);
+    }
+    return "softbench: error: '" + extras.front() +
+           "' is not a command; use one of " + names + " (see '" + help +
+           "')\n";
+  }
   return "softbench: error: " + std::string(error.what()) + "; see '" + help +
          "'\n";
 }

@@ -234,6 +234,13 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
           ? (video.parent_path() / (video.stem().string() + ".plan.yaml"))
                 .string()
           : options.plan_out_path;
+  // The container follows the extension (VideoWriter): a video named .txt
+  // or without an extension is a slip, not a wish.
+  const std::string extension = video.extension().string();
+  if (extension != ".mp4" && extension != ".mov" && extension != ".m4v") {
+    throw InputError("--out: " + options.output_path +
+                     ": a video is written as .mp4, .mov or .m4v; name it so");
+  }
   CheckOutputFile(options.output_path, "--out");
   CheckOutputFile(options.truth_path, "--truth");
   CheckOutputFile(plan_out, "--plan-out");

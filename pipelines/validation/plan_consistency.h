@@ -19,7 +19,10 @@ namespace softbench {
 //    its own (options.better_match_ratio, options.better_match_margin_mm).
 // Each such test gets matches_plan = false, status "mismatch" and a reason
 // naming the entry it fits instead, if any; returns one warning per test,
-// and a summary line when several do not fit.
+// and a summary line. When more than half of the measured tests do not fit,
+// the plan as a whole does not fit the video (times shifted, a test skipped
+// early): then no test is scored, since those that seem to fit do so by
+// chance.
 std::vector<std::string> CheckPlanConsistency(const ValidationOptions& options,
                                               std::vector<TestScore>* tests);
 

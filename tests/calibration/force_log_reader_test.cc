@@ -186,5 +186,34 @@ TEST(ForceLogReader, ReadsACombinedLogAndRefusesInterleavedTests) {
   }
 }
 
+// A bend of 90 deg or more, or a stretch of 100 mm, is no configuration a
+// clamp can hold: a slip of unit (radians, micrometres) the fit would
+// otherwise take at face value.
+TEST(ForceLogReader, RefusesAConfigurationNoClampCanHold) {
+  const std::string header =
+      "test_id,delta_length_mm,theta_deg,time_s,pressure_kpa,fy_n,fz_n\n";
+  const struct {
+    std::string row, expected;
+  } cases[] = {
+      {"a,1,300,0,0,0,0\n", ":2: test 'a': a bend of 300"},
+      {"a,1,-90,0,0,0,0\n", ":2: test 'a': a bend of -90"},
+      {"a,2000,10,0,0,0,0\n", ":2: test 'a': a length change of 2000"},
+  };
+  for (const auto& c : cases) {
+    ForceLogReadSummary summary;
+    try {
+      ReadCombinedForceLog(WriteLog("implausible.csv", header + c.row),
+                           ForceLogColumns(), ForceLogReadOptions(), &summary,
+                           nullptr, nullptr);
+      ADD_FAILURE() << c.row << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_FALSE(ImplausibleConfiguration(-3.0, 30.0));
+  EXPECT_FALSE(ImplausibleConfiguration(3.0, -89.9));
+}
+
 }  // namespace
 }  // namespace softbench

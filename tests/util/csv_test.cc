@@ -201,6 +201,9 @@ TEST(CsvReader, RefusesWhatIsNotACsvFileWithOneLine) {
   EXPECT_NE(ReadAllError("softbench_binary.csv", std::string("a\0b\n", 4))
                 .find(":1: the header is not text"),
             std::string::npos);
+  EXPECT_NE(ReadAllError("softbench_twice.csv", "p1_psi,p1_psi\n1,2\n")
+                .find(":1: column 'p1_psi' is given twice"),
+            std::string::npos);
   try {
     CsvReader reader("/dev/zero");
     FAIL() << "/dev/zero was opened as a CSV file";

@@ -35,7 +35,7 @@ TEST(CheckInputFile, RefusesWhatIsNotARegularFileOfASaneSize) {
 
   EXPECT_NE(ErrorOf([] {
               CheckInputFile("/dev/zero", "test plan");
-            }).find("/dev/zero: is a device, not a test plan file"),
+            }).find("/dev/zero: is a device, not a regular file; give the test plan's path"),
             std::string::npos);
   EXPECT_NE(ErrorOf([&] {
               CheckInputFile(fifo, "test plan");

@@ -116,6 +116,8 @@ TEST_F(CommandLineTest, AMalformedLineIsOneLineOfBadInput) {
       {"",
        "softbench: error: A subcommand is required; see 'softbench "
        "--help'"},
+      {"-q valdiate clip.mp4",
+       "softbench: error: 'valdiate' is not a command; use one of predict, "},
   };
   for (const auto& c : cases) {
     std::string err;
@@ -144,6 +146,9 @@ TEST_F(CommandLineTest, AnUnwritableOutputIsFoundBeforeAnyWork) {
        "--truth: /proc/truth.csv: folder '/proc' is not writable"},
       {"synth-forces --out " + Write("file", "x"),
        " exists and is not a folder"},
+      {"render --plan " + samples + "/delta/plan.yaml --out " + Path("v.txt") +
+           " --truth " + Path("truth.csv"),
+       "v.txt: a video is written as .mp4, .mov or .m4v; name it so"},
   };
   for (const auto& c : cases) {
     std::string err;

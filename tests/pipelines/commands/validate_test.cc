@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -755,6 +756,48 @@ TEST_F(ValidateCommandTest, NamesTestsThatDoNotMoveAsTheirPlanEntries) {
   EXPECT_NE(summary.find("\"skipped_tests\""), std::string::npos);
   EXPECT_NE(out.str().find("model error mean 0.00"), std::string::npos)
       << out.str();
+  EXPECT_NE(out.str().find("hysteresis above 0.05 mm: none"), std::string::npos)
+      << out.str();
+}
+
+// The plan's times are 3 s late against the video: every window lands on
+// another phase of the motion. Some tests then look plausible by chance (a
+// small motion read backwards); none may be scored, and no hysteresis may be
+// flagged.
+TEST_F(ValidateCommandTest, ScoresNothingWhenThePlansTimesAreShifted) {
+  const std::string sample = std::string(SOFTBENCH_SOURCE_DIR) + "/samples";
+  std::string plan = Read(sample + "/delta/rendered.plan.yaml");
+  std::string shifted;
+  std::istringstream lines(plan);
+  for (std::string line; std::getline(lines, line);) {
+    double actuate = 0.0, release = 0.0;
+    const size_t at = line.find("actuate_s: ");
+    if (at != std::string::npos &&
+        std::sscanf(line.c_str() + at, "actuate_s: %lf, release_s: %lf",
+                    &actuate, &release) == 2) {
+      line = line.substr(0, at) + "actuate_s: " + std::to_string(actuate + 3) +
+             ", release_s: " + std::to_string(release + 3) + "}";
+    }
+    shifted += line + "\n";
+  }
+  ASSERT_NE(shifted.find("actuate_s: 5.0"), std::string::npos) << shifted;
+  ValidateCommandOptions options;
+  options.video_paths = {sample + "/delta/delta.mp4"};
+  options.plan_path = Write("plan.yaml", shifted);
+  options.output_directory = Path("report");
+  options.windows_only = true;
+  options.quiet = true;
+  std::ostringstream out;
+  EXPECT_EQ(RunValidate(options, out), kExitTestsDoNotMatchPlan);
+  CsvReader results(Path("report/results.csv"));
+  const int status = results.ColumnIndex("status");
+  std::vector<std::string_view> fields;
+  int rows = 0;
+  while (results.ReadRow(&fields)) {
+    ++rows;
+    EXPECT_EQ(fields[status], "mismatch") << fields[0];
+  }
+  EXPECT_EQ(rows, 14);
   EXPECT_NE(out.str().find("hysteresis above 0.05 mm: none"), std::string::npos)
       << out.str();
 }
