@@ -41,6 +41,20 @@ TestPlan LoadValidationPlan(const ValidateCommandOptions& options,
   return plan;
 }
 
+// The tests not measured because a window lost frames to damaged video data.
+std::vector<std::string> LostToDamage(const ValidationResult& r) {
+  std::vector<std::string> ids;
+  for (const TestScore& t : r.tests) {
+    if (!t.measured && std::any_of(t.windows.begin(), t.windows.end(),
+                                   [](const WindowSummary& w) {
+                                     return w.damaged_frames > 0;
+                                   })) {
+      ids.push_back(t.id);
+    }
+  }
+  return ids;
+}
+
 // What the command prints of one video.
 std::string SummaryText(const VideoValidation& v) {
   const ValidationResult& r = v.result;
@@ -49,6 +63,11 @@ std::string SummaryText(const VideoValidation& v) {
                   v.measurement.video_path, r.tests.size(), r.times_source,
                   std::count_if(r.tests.begin(), r.tests.end(),
                                 [](const TestScore& t) { return t.measured; }));
+  if (const std::vector<std::string> lost = LostToDamage(r); !lost.empty()) {
+    text += fmt::format(
+        "  not measured, their windows lost frames to damaged video data: {}\n",
+        fmt::join(lost, ", "));
+  }
   if (!r.mismatched.empty()) {
     text += fmt::format(
         "  not scored, their motion does not fit their plan entries: {}\n",
@@ -173,7 +192,9 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   out << fmt::format("report: {}/{}\n", options.output_directory,
                      count == 1 ? "report.html" : "index.html");
   for (const VideoValidation& v : videos) {
-    if (!v.result.mismatched.empty()) return kExitTestsDoNotMatchPlan;
+    if (!v.result.mismatched.empty() || !LostToDamage(v.result).empty()) {
+      return kExitTestsDoNotMatchPlan;
+    }
   }
   return 0;
 }

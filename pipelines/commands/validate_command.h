@@ -36,7 +36,8 @@ struct ValidateCommandOptions {
 };
 
 // Exit status when the report was written but some tests did not move as
-// their plan entries predict (not scored; named in the report and warnings).
+// their plan entries predict, or were lost to damaged video data (not
+// scored; named in the report, the warnings and results.csv's reason).
 inline constexpr int kExitTestsDoNotMatchPlan = 3;
 
 // Adds the command's flags to `command`, bound to `options`.

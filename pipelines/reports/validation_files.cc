@@ -51,7 +51,7 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
       ",initial_y_mm,initial_z_mm,actuated_y_mm,actuated_z_mm,final_y_mm,"
       "final_z_mm,measured_dy_mm,measured_dz_mm,model_dy_mm,model_dz_mm,"
       "model_error_mm,baseline_dy_mm,baseline_dz_mm,baseline_error_mm,"
-      "hysteresis_mm,hysteresis_ok,in_range,status\n";
+      "hysteresis_mm,hysteresis_ok,in_range,status,reason\n";
   for (const TestScore& t : r.tests) {
     for (size_t h = 0; h < t.heads.size(); ++h) {
       const HeadScore& s = t.heads[h];
@@ -66,13 +66,17 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
       for (const Eigen::Vector2d& v : {s.measured_mm, s.model_mm}) {
         csv += "," + FormatMm(v.x()) + "," + FormatMm(v.y());
       }
-      csv += "," + FormatMm(s.model_error_mm) + "," +
+      // Errors and hysteresis only where scored: a test that did not move
+      // as its entry predicts has no error against that entry.
+      const auto scored = [&](double value) {
+        return t.scored() ? FormatMm(value) : std::string();
+      };
+      csv += "," + scored(s.model_error_mm) + "," +
              FormatMm(s.baseline_mm.x()) + "," + FormatMm(s.baseline_mm.y()) +
-             "," + FormatMm(s.baseline_error_mm) + "," +
-             FormatMm(s.hysteresis_mm) + "," +
-             (t.measured ? (s.hysteresis_ok ? "1" : "0") : "") + "," +
+             "," + scored(s.baseline_error_mm) + "," + scored(s.hysteresis_mm) +
+             "," + (t.scored() ? (s.hysteresis_ok ? "1" : "0") : "") + "," +
              (t.outside_range.empty() ? "1" : "0") + "," + CsvField(t.status) +
-             "\n";
+             "," + CsvField(t.reason) + "\n";
     }
   }
   // Tests the plan says the bench skipped: their pressures, nothing measured.
@@ -80,7 +84,8 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
     for (const Head& head : plan.mechanism.heads) {
       csv += CsvField(t.id) + "," + CsvField(head.name);
       for (double p : t.pressures) csv += fmt::format(",{:g}", p);
-      csv += std::string(17, ',') + ",skipped\n";  // 17 empty cells
+      csv += std::string(17, ',') +  // 17 empty cells
+             ",skipped,skipped on the bench (the plan says so)\n";
     }
   }
   return csv;

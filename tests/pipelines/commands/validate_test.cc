@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <random>
 #include <sstream>
 
 #include "pipelines/commands/predict_command.h"
@@ -800,6 +801,50 @@ TEST_F(ValidateCommandTest, ScoresNothingWhenThePlansTimesAreShifted) {
   EXPECT_EQ(rows, 14);
   EXPECT_NE(out.str().find("hysteresis above 0.05 mm: none"), std::string::npos)
       << out.str();
+}
+
+// Bit flips in the middle of the stream: the windows that lost frames are
+// named with the reason, their tests are not measured, the rest are scored
+// as before, and the exit status says the report is not whole.
+TEST_F(ValidateCommandTest, NamesTestsLostToDamagedVideoData) {
+  const std::string sample = std::string(SOFTBENCH_SOURCE_DIR) + "/samples";
+  std::string video = Read(sample + "/delta/delta.mp4");
+  std::mt19937 random(3);
+  std::uniform_int_distribution<size_t> where(video.size() / 3,
+                                              2 * video.size() / 3);
+  for (int i = 0; i < 40; ++i) video[where(random)] ^= 0x10;
+  ValidateCommandOptions options;
+  options.video_paths = {Write("flipped.mp4", video)};
+  options.plan_path = sample + "/delta/rendered.plan.yaml";
+  options.output_directory = Path("report");
+  options.quiet = true;
+  std::ostringstream out;
+  EXPECT_EQ(RunValidate(options, out), kExitTestsDoNotMatchPlan);
+  EXPECT_NE(out.str().find("not measured, their windows lost frames to "
+                           "damaged video data: "),
+            std::string::npos)
+      << out.str();
+  CsvReader results(Path("report/results.csv"));
+  const int status = results.ColumnIndex("status");
+  const int reason = results.ColumnIndex("reason");
+  const int error = results.ColumnIndex("model_error_mm");
+  ASSERT_GE(reason, 0);
+  std::vector<std::string_view> fields;
+  int lost = 0, ok = 0;
+  while (results.ReadRow(&fields)) {
+    if (fields[status] == "not measured") {
+      ++lost;
+      EXPECT_NE(fields[reason].find("lost to damaged video data"),
+                std::string_view::npos)
+          << fields[reason];
+      EXPECT_EQ(fields[error], "");
+    } else if (fields[status] == "ok") {
+      ++ok;
+      EXPECT_LT(std::stod(std::string(fields[error])), 0.005) << fields[0];
+    }
+  }
+  EXPECT_GT(lost, 0);
+  EXPECT_GT(ok, 0);
 }
 
 }  // namespace
