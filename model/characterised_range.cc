@@ -16,19 +16,30 @@ std::optional<std::string> CharacterisedRange::Check() const {
   return std::nullopt;
 }
 
-std::optional<std::string> OutsideCharacterisedRange(
-    const CharacterisedRange& range, const EquilibriumProblem& problem,
-    const Eigen::VectorXd& pressures_mpa, const Eigen::VectorXd& x) {
-  std::ostringstream why;
-  why.precision(3);
+std::optional<std::string> PressuresOutsideCharacterisedRange(
+    const CharacterisedRange& range, const Eigen::VectorXd& pressures_mpa) {
   for (int k = 0; k < pressures_mpa.size(); ++k) {
     if (pressures_mpa[k] > range.max_pressure_mpa * (1.0 + 1e-9)) {
+      std::ostringstream why;
+      why.precision(3);
       why << "p" << k + 1 << " = " << pressures_mpa[k]
           << " MPa is above the characterised " << range.max_pressure_mpa
           << " MPa";
       return why.str();
     }
   }
+  return std::nullopt;
+}
+
+std::optional<std::string> OutsideCharacterisedRange(
+    const CharacterisedRange& range, const EquilibriumProblem& problem,
+    const Eigen::VectorXd& pressures_mpa, const Eigen::VectorXd& x) {
+  if (std::optional<std::string> why =
+          PressuresOutsideCharacterisedRange(range, pressures_mpa)) {
+    return why;
+  }
+  std::ostringstream why;
+  why.precision(3);
   const std::vector<Deformation> deformations = problem.Deformations(x);
   for (size_t a = 0; a < deformations.size(); ++a) {
     const Deformation& d = deformations[a];

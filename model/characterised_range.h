@@ -24,6 +24,12 @@ struct CharacterisedRange {
   std::optional<std::string> Check() const;
 };
 
+// Why `pressures_mpa` lie outside `range` (the first pressure above it), or
+// nothing. Needs no equilibrium: it marks a configuration that did not
+// converge too.
+std::optional<std::string> PressuresOutsideCharacterisedRange(
+    const CharacterisedRange& range, const Eigen::VectorXd& pressures_mpa);
+
 // Why a configuration lies outside `range` (the first pressure or actuator
 // deformation beyond it, e.g. "p2 = 0.069 MPa is above the characterised
 // 0.041 MPa"), or nothing when it lies inside. `x` holds the heads'

@@ -1,6 +1,7 @@
 #ifndef SOFTBENCH_MODEL_UNITS_H_
 #define SOFTBENCH_MODEL_UNITS_H_
 
+#include <algorithm>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -16,26 +17,43 @@ namespace softbench {
 // Conversions of pressure units into MPa (model.md: 1 psi = 6.894757 kPa).
 inline constexpr double kMpaPerPsi = 0.006894757;
 inline constexpr double kMpaPerKpa = 0.001;
+inline constexpr double kMpaPerBar = 0.1;
 
 // The pressure units files and options may state, by the names they use: the
 // one list every parser, help text and message uses. A pressure is never
-// assumed to be in one of them.
+// assumed to be in one of them. Names are read in any case ("kPa", "PSI").
 struct PressureUnit {
   std::string_view name;
   double mpa_per_unit;
 };
-inline constexpr PressureUnit kPressureUnits[] = {
-    {"psi", kMpaPerPsi}, {"kpa", kMpaPerKpa}, {"mpa", 1.0}};
+inline constexpr PressureUnit kPressureUnits[] = {{"psi", kMpaPerPsi},
+                                                  {"kpa", kMpaPerKpa},
+                                                  {"mpa", 1.0},
+                                                  {"bar", kMpaPerBar}};
 
-// MPa per unit of `name`; nullopt for an unknown name.
-inline std::optional<double> MpaPerPressureUnit(std::string_view name) {
+// The unit `name` names, in any case ("kPa" is kpa); nullptr if none.
+inline const PressureUnit* FindPressureUnit(std::string_view name) {
   for (const PressureUnit& unit : kPressureUnits) {
-    if (unit.name == name) return unit.mpa_per_unit;
+    if (unit.name.size() == name.size() &&
+        std::equal(name.begin(), name.end(), unit.name.begin(),
+                   [](char a, char b) {
+                     return (a >= 'A' && a <= 'Z' ? a - 'A' + 'a' : a) == b;
+                   })) {
+      return &unit;
+    }
+  }
+  return nullptr;
+}
+
+// MPa per unit of `name` (in any case); nullopt for an unknown name.
+inline std::optional<double> MpaPerPressureUnit(std::string_view name) {
+  if (const PressureUnit* unit = FindPressureUnit(name)) {
+    return unit->mpa_per_unit;
   }
   return std::nullopt;
 }
 
-// "psi, kpa or mpa", for help texts and errors.
+// "psi, kpa, mpa or bar", for help texts and errors.
 inline std::string PressureUnitNames() {
   std::vector<std::string_view> names;
   for (const PressureUnit& unit : kPressureUnits) names.push_back(unit.name);

@@ -153,6 +153,10 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
         }
       } else {
         map.displacements_mm.row(row).setConstant(std::nan(""));
+        if (options.range &&
+            PressuresOutsideCharacterisedRange(*options.range, pressures)) {
+          map.in_range[row] = 0;
+        }
       }
       map.summaries[row] = summary;
     }

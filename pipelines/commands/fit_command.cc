@@ -98,19 +98,21 @@ void AddFitCommand(CLI::App* command, FitCommandOptions* options) {
 namespace {
 
 // The pressure unit of a combined CSV: --pressure-unit, else the one its
-// pressure_UNIT column names (never assumed).
+// pressure_UNIT column names, in any case (never assumed). Returned as the
+// column writes it, so that it names the column.
 std::string CombinedPressureUnit(const FitCommandOptions& flags) {
   if (flags.pressure_unit) return *flags.pressure_unit;
   const CsvReader reader(flags.input_path);
-  for (const PressureUnit& unit : kPressureUnits) {
-    if (reader.ColumnIndex("pressure_" + std::string(unit.name)) >= 0) {
-      return std::string(unit.name);
+  for (const std::string& column : reader.header()) {
+    if (column.starts_with("pressure_") &&
+        FindPressureUnit(std::string_view(column).substr(9)) != nullptr) {
+      return column.substr(9);
     }
   }
-  throw InputError(flags.input_path +
-                   ":1: no pressure column with its unit (pressure_psi, "
-                   "pressure_kpa or pressure_mpa); rename it, or pass "
-                   "--pressure-unit");
+  throw InputError(fmt::format(
+      "{}:1: no pressure column with its unit (pressure_UNIT, UNIT one of "
+      "{}); rename it, e.g. pressure_psi, or pass --pressure-unit",
+      flags.input_path, PressureUnitNames()));
 }
 
 }  // namespace

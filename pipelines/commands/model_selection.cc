@@ -28,7 +28,7 @@ ResolvedModel ResolveModel(const ModelSelection& selection) {
   ResolvedModel resolved;
   if (selection.pressure_unit) {
     resolved.mpa_per_unit = MpaPerPressureUnitFlag(*selection.pressure_unit);
-    resolved.pressure_unit = *selection.pressure_unit;
+    resolved.pressure_unit = FindPressureUnit(*selection.pressure_unit)->name;
   }
   resolved.mechanism = LoadMechanism(selection.mechanism);
   if (!selection.constants_path.empty()) {

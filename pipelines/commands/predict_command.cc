@@ -93,9 +93,10 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
       x.setZero();
     }
     const std::optional<std::string> beyond =
-        summary.converged() ? OutsideCharacterisedRange(resolved.range, problem,
-                                                        pressures_mpa, x)
-                            : std::nullopt;
+        summary.converged()
+            ? OutsideCharacterisedRange(resolved.range, problem, pressures_mpa,
+                                        x)
+            : PressuresOutsideCharacterisedRange(resolved.range, pressures_mpa);
     if (beyond && outside++ == 0) first_outside = *beyond;
     table.AddRow(row, x, summary, !beyond);
     if (!options.pressures.empty()) {

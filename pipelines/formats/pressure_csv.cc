@@ -18,20 +18,30 @@ struct PressureColumns {
   std::string unit;
 };
 
-// Column pA of `reader`'s header, plain or with a unit suffix; -1 if absent.
+// Column pA of `reader`'s header, plain ("p2") or with a unit suffix in any
+// case ("p2_psi", "p2_kPa"; `unit` gets the unit's name, "" when plain); -1
+// if absent. A suffix that is not a unit is an error naming it.
 int FindPressureColumn(const CsvReader& reader, int a, std::string* unit) {
-  const int plain = reader.ColumnIndex(fmt::format("p{}", a));
-  if (plain >= 0) {
-    *unit = "";
-    return plain;
-  }
-  for (const PressureUnit& candidate : kPressureUnits) {
-    const int column =
-        reader.ColumnIndex(fmt::format("p{}_{}", a, candidate.name));
-    if (column >= 0) {
-      *unit = candidate.name;
-      return column;
+  const std::string plain = fmt::format("p{}", a);
+  const std::vector<std::string>& header = reader.header();
+  for (size_t i = 0; i < header.size(); ++i) {
+    const std::string& name = header[i];
+    if (name == plain) {
+      *unit = "";
+      return static_cast<int>(i);
     }
+    if (!name.starts_with(plain + "_")) continue;
+    const std::string_view suffix =
+        std::string_view(name).substr(plain.size() + 1);
+    const PressureUnit* found = FindPressureUnit(suffix);
+    if (found == nullptr) {
+      throw InputError(fmt::format(
+          "{}:1: column '{}': '{}' is not a pressure unit; use {} (e.g. "
+          "{}_psi)",
+          reader.path(), name, suffix, PressureUnitNames(), plain));
+    }
+    *unit = found->name;
+    return static_cast<int>(i);
   }
   return -1;
 }

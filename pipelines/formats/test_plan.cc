@@ -403,9 +403,9 @@ void ParsePressureUnit(const YamlReader& reader, const YAML::Node& root,
   TestPlan& plan = *plan_ptr;
   const YAML::Node unit = reader.Require(root, "pressure_unit");
   plan.pressure_unit = reader.String(unit, "pressure_unit");
-  if (const std::optional<double> mpa =
-          MpaPerPressureUnit(plan.pressure_unit)) {
-    plan.mpa_per_unit = *mpa;
+  if (const PressureUnit* found = FindPressureUnit(plan.pressure_unit)) {
+    plan.pressure_unit = found->name;  // "kPa" is written back as kpa
+    plan.mpa_per_unit = found->mpa_per_unit;
   } else {
     reader.Fail(unit, "pressure_unit", "must be " + PressureUnitNames());
   }

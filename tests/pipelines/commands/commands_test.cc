@@ -182,6 +182,25 @@ TEST_F(CommandsTest, PredictReadsTheColumnsUnitAndConvertsToTheFlags) {
   EXPECT_NE(PredictError("p1_psi,p2_kpa,p3_psi\n1,2,3\n")
                 .find("column p2 is in 'kpa' but p1 in 'psi'"),
             std::string::npos);
+  // Units in any case, and bar; a suffix that is no unit is named.
+  options.model.pressure_unit.reset();
+  options.input_path =
+      Write("mixed_case.csv", "p1_kPa,p2_KPA,p3_kpa\n41.368542,20.684271,0\n");
+  options.output_path = Path("out_mixed_case.csv");
+  ASSERT_EQ(RunPredict(options, out), 0);
+  EXPECT_EQ(Read(Path("out_mixed_case.csv")), Read(Path("out_kpa.csv")));
+  options.input_path =
+      Write("bar.csv", "p1_bar,p2_bar,p3_bar\n0.41368542,0.20684271,0\n");
+  options.output_path = Path("out_bar.csv");
+  ASSERT_EQ(RunPredict(options, out), 0);
+  CsvReader bar(Path("out_bar.csv"));
+  std::vector<std::string_view> bar_row;
+  ASSERT_TRUE(bar.ReadRow(&bar_row));
+  EXPECT_EQ(bar_row[3], kpa_row[3]);
+  EXPECT_NE(PredictError("p1_foo,p2_foo,p3_foo\n1,2,3\n")
+                .find("column 'p1_foo': 'foo' is not a pressure unit; use "
+                      "psi, kpa, mpa or bar"),
+            std::string::npos);
 }
 
 TEST_F(CommandsTest, PredictMarksWhatLiesBeyondTheCharacterisedRange) {
@@ -195,7 +214,7 @@ TEST_F(CommandsTest, PredictMarksWhatLiesBeyondTheCharacterisedRange) {
     PredictOptions options;
     options.model.constants_path = Write("c.yaml", thesis + constants);
     options.input_path =
-        Write("in.csv", "p1_psi,p2_psi,p3_psi\n6,6,0\n60,0,0\n");
+        Write("in.csv", "p1_psi,p2_psi,p3_psi\n6,6,0\n60,0,0\n1e300,0,0\n");
     options.output_path = Path("out.csv");
     std::ostringstream out;
     EXPECT_EQ(RunPredict(options, out), 0);
@@ -205,13 +224,14 @@ TEST_F(CommandsTest, PredictMarksWhatLiesBeyondTheCharacterisedRange) {
     while (reader.ReadRow(&fields)) flags.emplace_back(fields.back());
     return flags;
   };
-  // 60 psi is beyond the thesis's 6 psi; 6,6,0 stays inside.
-  EXPECT_EQ(in_range(""), (std::vector<std::string>{"1", "0"}));
+  // 60 psi is beyond the thesis's 6 psi; 6,6,0 stays inside; 1e300 psi
+  // has no equilibrium and is beyond the range all the same.
+  EXPECT_EQ(in_range(""), (std::vector<std::string>{"1", "0", "0"}));
   // A lower pressure limit, and a stretch limit below what 6,6,0 needs.
   EXPECT_EQ(in_range("characterised_max_pressure_mpa: 0.02\n"),
-            (std::vector<std::string>{"0", "0"}));
+            (std::vector<std::string>{"0", "0", "0"}));
   EXPECT_EQ(in_range("characterised_max_delta_length_mm: 0.1\n"),
-            (std::vector<std::string>{"0", "0"}));
+            (std::vector<std::string>{"0", "0", "0"}));
 }
 
 TEST_F(CommandsTest, PredictErrorLeavesAnEarlierOutputUntouched) {
@@ -227,7 +247,7 @@ TEST_F(CommandsTest, PredictRejectsBadSelections) {
   options.model.mechanism = "tripod";
   EXPECT_THROW(RunPredict(options, out), InputError);
   options.model.mechanism = "delta";
-  options.model.pressure_unit = "bar";
+  options.model.pressure_unit = "atm";
   EXPECT_THROW(RunPredict(options, out), InputError);
   options.model.pressure_unit = "psi";
   options.model.model = "pressurized-spring";

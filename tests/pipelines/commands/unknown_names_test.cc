@@ -31,17 +31,17 @@ TEST_F(UnknownNamesTest, EachGetsOneLineListingTheKnownNames) {
       {"predict --pressures 1,1,1 --model spring",
        "--model: 'spring' is not a model; use axial-shear or "
        "pressurized-spring"},
-      {"predict --pressures 1,1,1 --pressure-unit bar",
-       "--pressure-unit: 'bar' is not a unit; use psi, kpa or mpa"},
+      {"predict --pressures 1,1,1 --pressure-unit atm",
+       "--pressure-unit: 'atm' is not a unit; use psi, kpa, mpa or bar"},
       {"predict --pressures 1,1,1 --mechanism ''",
        "mechanism '': no such mechanism; give 'delta', 'floating', or the "
        "path of a mechanism YAML file"},
       {"workspace --max 6 --step 3 --pressure-unit ''",
-       "--pressure-unit: '' is not a unit; use psi, kpa or mpa"},
+       "--pressure-unit: '' is not a unit; use psi, kpa, mpa or bar"},
       {"synth-forces --out " + Path("logs") + " --variant exact",
        "--variant: 'exact' is not a variant; " + variants},
-      {"synth-forces --out " + Path("logs") + " --pressure-unit bar",
-       "--pressure-unit: 'bar' is not a unit; use psi, kpa or mpa"},
+      {"synth-forces --out " + Path("logs") + " --pressure-unit atm",
+       "--pressure-unit: 'atm' is not a unit; use psi, kpa, mpa or bar"},
       {"tune " + samples + "/delta/delta.mp4 --color purple",
        "--color: 'purple' is not red, green, blue, yellow or magenta"},
       {"validate " + samples + "/delta/delta.mp4 --plan " + samples +

@@ -81,8 +81,8 @@ TEST(TestPlan, ErrorsNameTheLineAndSayWhatToChange) {
   EXPECT_NE(ErrorOf("mechanism: tripod\npressure_unit: psi\ntests: []\n")
                 .find("plan.yaml:1: mechanism:"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: bar\ntests: []\n")
-                .find("pressure_unit: must be psi, kpa or mpa"),
+  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: atm\ntests: []\n")
+                .find("pressure_unit: must be psi, kpa, mpa or bar"),
             std::string::npos);
   EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\nmarkers:\n"
                     "  - {head: head, color: purple}\ntests:\n"
