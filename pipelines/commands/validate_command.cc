@@ -41,18 +41,13 @@ TestPlan LoadValidationPlan(const ValidateCommandOptions& options,
   return plan;
 }
 
-// The tests not measured because a window lost frames to damaged video data.
-std::vector<std::string> LostToDamage(const ValidationResult& r) {
-  std::vector<std::string> ids;
+// "id (reason)" for each test that was not measured.
+std::vector<std::string> NotMeasured(const ValidationResult& r) {
+  std::vector<std::string> tests;
   for (const TestScore& t : r.tests) {
-    if (!t.measured && std::any_of(t.windows.begin(), t.windows.end(),
-                                   [](const WindowSummary& w) {
-                                     return w.damaged_frames > 0;
-                                   })) {
-      ids.push_back(t.id);
-    }
+    if (!t.measured) tests.push_back(fmt::format("{} ({})", t.id, t.reason));
   }
-  return ids;
+  return tests;
 }
 
 // What the command prints of one video.
@@ -63,10 +58,8 @@ std::string SummaryText(const VideoValidation& v) {
                   v.measurement.video_path, r.tests.size(), r.times_source,
                   std::count_if(r.tests.begin(), r.tests.end(),
                                 [](const TestScore& t) { return t.measured; }));
-  if (const std::vector<std::string> lost = LostToDamage(r); !lost.empty()) {
-    text += fmt::format(
-        "  not measured, their windows lost frames to damaged video data: {}\n",
-        fmt::join(lost, ", "));
+  for (const std::string& test : NotMeasured(r)) {
+    text += fmt::format("  not measured: {}\n", test);
   }
   if (!r.mismatched.empty()) {
     text += fmt::format(
@@ -80,6 +73,11 @@ std::string SummaryText(const VideoValidation& v) {
                         fmt::join(ids, ", "));
   }
   for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
+    if (r.model_errors[h].tests == 0) {
+      text += fmt::format("  {}: no test scored, so no model error\n",
+                          v.plan.mechanism.heads[h].name);
+      continue;
+    }
     text += fmt::format(
         "  {}: model error mean {:.4f} mm (max {:.4f}), baseline {:.4f} mm "
         "(max {:.4f}): {:.0f} % better\n",
@@ -192,8 +190,9 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   out << fmt::format("report: {}/{}\n", options.output_directory,
                      count == 1 ? "report.html" : "index.html");
   for (const VideoValidation& v : videos) {
-    if (!v.result.mismatched.empty() || !LostToDamage(v.result).empty()) {
-      return kExitTestsDoNotMatchPlan;
+    if (std::any_of(v.result.tests.begin(), v.result.tests.end(),
+                    [](const TestScore& t) { return !t.scored(); })) {
+      return kExitSomeTestsNotScored;
     }
   }
   return 0;

@@ -35,10 +35,11 @@ struct ValidateCommandOptions {
   VideoValidationOptions validation;
 };
 
-// Exit status when the report was written but some tests did not move as
-// their plan entries predict, or were lost to damaged video data (not
-// scored; named in the report, the warnings and results.csv's reason).
-inline constexpr int kExitTestsDoNotMatchPlan = 3;
+// Exit status when the report was written but some tests are not scored:
+// not measured (a window lost to damaged video data, beyond the video's
+// end, a head not found, ...) or not moving as their plan entries predict.
+// Each is named with its reason in the output, the report and results.csv.
+inline constexpr int kExitSomeTestsNotScored = 3;
 
 // Adds the command's flags to `command`, bound to `options`.
 void AddValidateCommand(CLI::App* command, ValidateCommandOptions* options);

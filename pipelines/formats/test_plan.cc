@@ -189,7 +189,21 @@ void ParseMarkers(const YamlReader& reader, const YAML::Node& node,
       }
       for (const YAML::Node& point : layout) {
         const auto pair = reader.Pair(point, "layout_mm");
-        marker.layout_mm.emplace_back(pair[0], pair[1]);
+        const Eigen::Vector2d p(pair[0], pair[1]);
+        // Overlapping dots merge into one blob: no layout can match them.
+        for (size_t j = 0; j < marker.layout_mm.size(); ++j) {
+          const double gap_mm = (p - marker.layout_mm[j]).norm();
+          if (gap_mm < marker.dot_diameter_mm) {
+            reader.Fail(
+                point, "layout_mm",
+                fmt::format("dots {} and {} are {:.2f} mm apart, less than a "
+                            "dot's diameter ({} mm): they would overlap; "
+                            "give each dot its own place",
+                            j + 1, marker.layout_mm.size() + 1, gap_mm,
+                            marker.dot_diameter_mm));
+          }
+        }
+        marker.layout_mm.push_back(p);
       }
     }
     plan->markers.push_back(std::move(marker));
@@ -318,6 +332,29 @@ std::array<int, 6> MarkerHsvBounds(const MarkerSpec& marker) {
 bool TestPlan::HasTimes() const {
   return std::all_of(tests.begin(), tests.end(),
                      [](const PlanTest& t) { return t.actuate_s.has_value(); });
+}
+
+void CheckWindowsFitTheTimes(const TestPlan& plan) {
+  for (size_t i = 0; i < plan.tests.size(); ++i) {
+    const PlanTest& test = plan.tests[i];
+    const double hold_s = *test.release_s - *test.actuate_s;
+    if (hold_s < plan.window_s) {
+      throw InputError(fmt::format(
+          "{}: test {}: the hold ({:g} s) is shorter than windows.length_s "
+          "({:g} s), so its actuated window would reach back to the "
+          "actuation; hold longer or shorten the windows",
+          plan.path, test.id, hold_s, plan.window_s));
+    }
+    if (i == 0) continue;
+    const double rest_s = *test.actuate_s - *plan.tests[i - 1].release_s;
+    if (rest_s < plan.window_s) {
+      throw InputError(fmt::format(
+          "{}: test {}: actuated only {:g} s after {}'s release, less than "
+          "windows.length_s ({:g} s), so its initial window would reach back "
+          "to that release; rest longer or shorten the windows",
+          plan.path, test.id, rest_s, plan.tests[i - 1].id, plan.window_s));
+    }
+  }
 }
 
 std::vector<Eigen::Vector2d> AttachmentDirections(const Mechanism& mechanism,

@@ -109,6 +109,13 @@ struct TestPlan {
   bool HasTimes() const;
 };
 
+// Throws InputError naming the plan and the test when a window (window_s
+// long, ending at an actuation or a release) does not fit inside that
+// test's hold or the rest before it, so that it would average a moving
+// head. Validation from the plan's times calls it; rendering does not need
+// it (a render plan may rest for less than a window).
+void CheckWindowsFitTheTimes(const TestPlan& plan);
+
 // Parses a plan; `path` names it in messages and anchors relative file names
 // (mechanism, constants). Throws InputError naming the line and key.
 TestPlan ParseTestPlan(std::string_view yaml, const std::string& path);

@@ -90,6 +90,7 @@ VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
         "motion or a pressure log need every frame)",
         plan.path));
   }
+  if (times_known) CheckWindowsFitTheTimes(plan);
   VideoReader reader(video_path,
                      MeasurementReaderOptions(!options.windows_only));
   VideoMeasurement m = MeasureVideo(

@@ -152,8 +152,14 @@ std::vector<std::array<WindowSummary, 3>> PlanWindows(const TestPlan& plan,
   std::vector<std::array<WindowSummary, 3>> windows(plan.tests.size());
   for (size_t i = 0; i < plan.tests.size(); ++i) {
     const PlanTest& test = plan.tests[i];
-    const double next =
+    // The rest ends at the next actuation, or where the video ends first
+    // (a recording cut short), when a whole window still fits after the
+    // release.
+    double next =
         i + 1 < plan.tests.size() ? *plan.tests[i + 1].actuate_s : video_end_s;
+    if (video_end_s < next && video_end_s - w >= *test.release_s) {
+      next = video_end_s;
+    }
     const std::array<double, 3> ends = {*test.actuate_s, *test.release_s, next};
     for (int k = 0; k < 3; ++k) {
       windows[i][k].start_s = ends[k] - w;
@@ -255,7 +261,11 @@ std::string WindowProblem(const TestPlan& plan,
       window.damaged_frames > 0
           ? fmt::format("{} frames lost to damaged video data",
                         window.damaged_frames)
-      : window.frames == 0 ? "no frames (beyond the video?)"
+      : window.start_s >= measurement.last_frame_s
+          ? fmt::format("beyond the video's end ({:.2f} s); check the plan's "
+                        "times",
+                        measurement.last_frame_s)
+      : window.frames == 0 ? "no frames"
       : 2 * window.unregistered_frames > window.frames
           ? fmt::format("{} of {} frames could not be registered to the "
                         "bench ({})",
@@ -281,8 +291,8 @@ void SummariseWindows(const TestPlan& plan, const VideoMeasurement& measurement,
       std::string problem =
           WindowProblem(plan, measurement, options, window, k, h);
       if (problem.empty()) continue;
+      if (score->measured) score->reason = std::move(problem);  // the first
       score->measured = false;
-      score->reason = std::move(problem);
     }
   }
 }
@@ -396,6 +406,7 @@ void WarnAboutTiming(const TestPlan& plan, const ValidationOptions& options,
 
 void WarnAboutSettling(const TestPlan& plan, ValidationResult* result) {
   for (const TestScore& score : result->tests) {
+    if (!score.measured) continue;  // named with its reason already
     const double rest_s = score.windows[kFinalWindow].end_s -
                           score.windows[kActuatedWindow].end_s;
     if (rest_s < 2.0 * plan.window_s) {

@@ -63,6 +63,41 @@ TEST(TestPlan, RoundTripsThroughItsYaml) {
   }
 }
 
+// Windows that do not fit the plan's holds and rests would average a moving
+// head; dots closer than their diameter merge into one blob.
+TEST(TestPlan, RefusesWindowsLongerThanAHoldOrARestAndOverlappingDots) {
+  const std::string t1 =
+      "  - {id: a, pressures: [1, 2, 3, 4, 5], actuate_s: 2, "
+      "release_s: 7}\n";
+  const std::string t2 =
+      "  - {id: b, pressures: [1, 2, 3, 4, 5], actuate_s: 8, release_s: 12}\n";
+  const auto windows_error = [&](const std::string& yaml) {
+    try {
+      CheckWindowsFitTheTimes(ParseTestPlan(yaml, "plan.yaml"));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(windows_error(std::string(kBase) + t1 + t2), "");
+  EXPECT_NE(windows_error("windows: {length_s: 6}\n" + std::string(kBase) + t1)
+                .find("plan.yaml: test a: the hold (5 s) is shorter than "
+                      "windows.length_s (6 s)"),
+            std::string::npos);
+  EXPECT_NE(
+      windows_error("windows: {length_s: 2}\n" + std::string(kBase) + t1 + t2)
+          .find("plan.yaml: test b: actuated only 1 s after a's "
+                "release, less than windows.length_s (2 s)"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf(std::string(kBase) + t1 +
+                    "markers:\n  - {head: left, color: red, dots: 3, "
+                    "dot_diameter_mm: 4, layout_mm: [[0, 0], [6, 0], [3, 2]]}\n"
+                    "  - {head: right, color: green}\n")
+                .find("layout_mm: dots 1 and 3 are 3.61 mm apart, less than a "
+                      "dot's diameter (4 mm)"),
+            std::string::npos);
+}
+
 TEST(TestPlan, ErrorsNameTheLineAndSayWhatToChange) {
   EXPECT_NE(
       ErrorOf(std::string(kBase) + "  - {id: a, pressures: [1, 2]}\n")
