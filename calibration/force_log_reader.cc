@@ -47,7 +47,25 @@ class LogRowParser {
         time_(RequireColumn(reader_, columns.time, "time")),
         pressure_(RequireColumn(reader_, columns.pressure, "pressure")),
         axial_(RequireColumn(reader_, columns.axial, "axial force")),
-        shear_(RequireColumn(reader_, columns.shear, "shear force")) {}
+        shear_(RequireColumn(reader_, columns.shear, "shear force")) {
+    // One column read for two quantities (axial and shear both "fz_n") is
+    // a mapping slip that would fit nonsense without a complaint.
+    const std::pair<int, const char*> roles[] = {{time_, "time"},
+                                                 {pressure_, "pressure"},
+                                                 {axial_, "axial force"},
+                                                 {shear_, "shear force"}};
+    for (size_t i = 0; i < 4; ++i) {
+      for (size_t j = i + 1; j < 4; ++j) {
+        if (roles[i].first != roles[j].first) continue;
+        throw InputError(fmt::format(
+            "{}: header: the {} and the {} are both column '{}'; map each "
+            "to its own column (the manifest's columns/axes, or --axial and "
+            "--shear)",
+            path, roles[i].second, roles[j].second,
+            reader_.header()[roles[i].first]));
+      }
+    }
+  }
 
   ~LogRowParser() { ReportBytes(); }
 
@@ -293,8 +311,7 @@ std::vector<ForceTest> ReadCombinedForceLog(const std::string& path,
         test.measured_theta_rad = DegToRad(
             configuration_number(measured_theta_column, "measured_theta_deg"));
       }
-      if (const auto problem = ImplausibleConfiguration(
-              test.delta_length_mm(), RadToDeg(test.theta_rad()))) {
+      if (const auto problem = ImplausibleTest(test)) {
         throw InputError(
             fmt::format("{}test '{}': {}", reader.Where(), id, *problem));
       }

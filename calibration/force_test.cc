@@ -1,7 +1,11 @@
 #include "calibration/force_test.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+
+#include "model/units.h"
 
 namespace softbench {
 
@@ -87,13 +91,28 @@ ForceTestStatistics ForceTestAccumulator::Statistics() const {
 std::optional<std::string> ImplausibleConfiguration(double delta_length_mm,
                                                     double theta_deg) {
   if (std::abs(theta_deg) >= 90.0) {
-    return "a bend of " + std::to_string(theta_deg) +
-           " deg folds the actuator back past its clamp; give the angle in "
-           "degrees, within -90..90";
+    return fmt::format(
+        "a bend of {:g} deg folds the actuator back past its clamp; give the "
+        "angle in degrees, within -90..90",
+        theta_deg);
   }
   if (std::abs(delta_length_mm) >= 100.0) {
-    return "a length change of " + std::to_string(delta_length_mm) +
-           " mm is beyond any bellows actuator; give it in millimetres";
+    return fmt::format(
+        "a length change of {:g} mm is beyond any bellows actuator; give it "
+        "in millimetres",
+        delta_length_mm);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> ImplausibleTest(const ForceTest& test) {
+  if (auto problem = ImplausibleConfiguration(
+          test.nominal_delta_length_mm, RadToDeg(test.nominal_theta_rad))) {
+    return problem;
+  }
+  if (auto problem = ImplausibleConfiguration(test.delta_length_mm(),
+                                              RadToDeg(test.theta_rad()))) {
+    return "measured: " + *problem;
   }
   return std::nullopt;
 }

@@ -97,6 +97,11 @@ struct ForceTest {
 std::optional<std::string> ImplausibleConfiguration(double delta_length_mm,
                                                     double theta_deg);
 
+// ImplausibleConfiguration of a test's nominal configuration and, where
+// given, its measured one (a wrong unit in either is refused, even where
+// the fit uses only the other).
+std::optional<std::string> ImplausibleTest(const ForceTest& test);
+
 }  // namespace softbench
 
 #endif  // SOFTBENCH_CALIBRATION_FORCE_TEST_H_

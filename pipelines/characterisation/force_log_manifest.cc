@@ -92,8 +92,7 @@ ForceTest ParseTest(const YamlReader& reader, const YAML::Node& node,
     test.measured_theta_rad = DegToRad(
         reader.Number(node["measured_theta_deg"], "measured_theta_deg"));
   }
-  if (const auto problem = ImplausibleConfiguration(
-          test.delta_length_mm(), RadToDeg(test.theta_rad()))) {
+  if (const auto problem = ImplausibleTest(test)) {
     reader.Fail(node, "tests entry '" + test.id + "'", *problem);
   }
   return test;

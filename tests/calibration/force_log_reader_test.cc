@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "model/units.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -81,6 +82,15 @@ TEST(ForceLogReader, NamesAMissingColumn) {
   EXPECT_NE(error.find("softbench_missing.csv"), std::string::npos) << error;
   EXPECT_NE(error.find("'force_z'"), std::string::npos) << error;
   EXPECT_NE(error.find("axial force"), std::string::npos) << error;
+  // Two quantities mapped to one column.
+  columns.axial = columns.shear;
+  const std::string same =
+      ReadError("same.csv", GoodLog(), nullptr, nullptr, columns);
+  EXPECT_NE(same.find("header: the axial force and the shear force are both "
+                      "column '" +
+                      columns.shear + "'"),
+            std::string::npos)
+      << same;
 }
 
 TEST(ForceLogReader, CountsAndSkipsNonFiniteAndOutOfRangeRowsWithLines) {
@@ -211,6 +221,19 @@ TEST(ForceLogReader, RefusesAConfigurationNoClampCanHold) {
           << e.what();
     }
   }
+  // A measured angle in the wrong unit is refused even beside a good
+  // nominal one.
+  ForceTest radians;
+  radians.nominal_theta_rad = DegToRad(30.0);
+  radians.measured_theta_rad = DegToRad(30.0 * 57.3);  // degrees twice
+  ASSERT_TRUE(ImplausibleTest(radians));
+  EXPECT_NE(ImplausibleTest(radians)->find("measured: a bend of"),
+            std::string::npos);
+  radians.measured_theta_rad.reset();
+  radians.nominal_theta_rad = DegToRad(400.0);
+  radians.measured_theta_rad = DegToRad(30.0);
+  EXPECT_NE(ImplausibleTest(radians)->find("a bend of 400 deg"),
+            std::string::npos);
   EXPECT_FALSE(ImplausibleConfiguration(-3.0, 30.0));
   EXPECT_FALSE(ImplausibleConfiguration(3.0, -89.9));
 }
