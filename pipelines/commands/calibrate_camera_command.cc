@@ -91,6 +91,8 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
     throw InputError("--board: " + *problem);
   if (!(options.every_s > 0.0)) throw InputError("--every-s: must be > 0");
   CheckOutputFile(options.output_path, "--out");
+  CheckOutputsSpareInputs({{"the views", options.source_path}},
+                          {{"--out", options.output_path}}, {});
   BoardViewsOptions view_options;
   view_options.board = calibration.board;
   view_options.every_s = options.every_s;

@@ -1,7 +1,9 @@
 #include "pipelines/commands/common_flags.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -100,6 +102,63 @@ void CheckOutputDirectory(const std::string& path, const std::string& option) {
                      " exists and is not a folder; choose another name");
   }
   CheckWritableFolder(FolderOf(path), path, option);
+}
+
+namespace {
+
+// `path` made absolute with '.', '..' and links of its existing part
+// resolved, so two names of one file compare equal.
+fs::path Resolved(const std::string& path) {
+  std::error_code error;
+  fs::path resolved = fs::weakly_canonical(fs::absolute(path, error), error);
+  return error ? fs::absolute(path).lexically_normal() : resolved;
+}
+
+bool Checked(const NamedPath& named) {
+  return !named.path.empty() && named.path != "-";
+}
+
+// True when `inner` is `folder` or lies inside it.
+bool Inside(const fs::path& inner, const fs::path& folder) {
+  auto [end, _] =
+      std::mismatch(folder.begin(), folder.end(), inner.begin(), inner.end());
+  return end == folder.end();
+}
+
+}  // namespace
+
+void CheckOutputsSpareInputs(const std::vector<NamedPath>& inputs,
+                             const std::vector<NamedPath>& output_files,
+                             const std::vector<NamedPath>& output_directories) {
+  std::vector<std::pair<const NamedPath*, fs::path>> earlier;
+  for (const NamedPath& input : inputs) {
+    if (Checked(input)) earlier.emplace_back(&input, Resolved(input.path));
+  }
+  const size_t num_inputs = earlier.size();
+  for (const NamedPath& output : output_files) {
+    if (!Checked(output)) continue;
+    const fs::path path = Resolved(output.path);
+    for (size_t i = 0; i < earlier.size(); ++i) {
+      if (earlier[i].second != path) continue;
+      throw InputError(fmt::format(
+          "{}: {} is also {} ({}); write to another file", output.option,
+          output.path, earlier[i].first->option, earlier[i].first->path));
+    }
+    earlier.emplace_back(&output, path);
+  }
+  for (const NamedPath& directory : output_directories) {
+    if (!Checked(directory)) continue;
+    const fs::path folder = Resolved(directory.path);
+    for (size_t i = 0; i < earlier.size(); ++i) {
+      if (!Inside(earlier[i].second, folder)) continue;
+      throw InputError(fmt::format(
+          "{}: {} is replaced whole, and it holds {} ({}){}; write the "
+          "{} elsewhere",
+          directory.option, directory.path, earlier[i].first->option,
+          earlier[i].first->path, i < num_inputs ? ", which would be lost" : "",
+          directory.option == "--report" ? "report" : "output"));
+    }
+  }
 }
 
 }  // namespace softbench

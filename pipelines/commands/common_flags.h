@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "util/csv.h"
 
@@ -36,6 +37,21 @@ void CheckOutputFile(const std::string& path, const std::string& option);
 // The same for a directory written whole (a report): `path` is a folder or
 // does not exist yet, and its parent folder is writable.
 void CheckOutputDirectory(const std::string& path, const std::string& option);
+
+// A path a command reads or writes, with the option (or argument) that gave
+// it, for messages.
+struct NamedPath {
+  std::string option;  // "--out", "the video"
+  std::string path;    // '' or '-' (standard output) is never checked
+};
+
+// Checks, before any work, that no output overwrites an input or another
+// output: the same file (by any name: relative, through '..' or a link), or
+// an input inside a directory that is written whole (a report replacing
+// the folder that holds the video it reports on).
+void CheckOutputsSpareInputs(const std::vector<NamedPath>& inputs,
+                             const std::vector<NamedPath>& output_files,
+                             const std::vector<NamedPath>& output_directories);
 
 }  // namespace softbench
 

@@ -197,6 +197,9 @@ int RunFit(const FitCommandOptions& options, std::ostream& out) {
   if (!options.report_directory.empty()) {
     CheckOutputDirectory(options.report_directory, "--report");
   }
+  CheckOutputsSpareInputs({{"the force logs", options.input_path}},
+                          {{"--out", options.output_path}},
+                          {{"--report", options.report_directory}});
   const FitRun run = RunFitAnalysis(FitAnalysisOptionsFromFlags(options));
   for (const std::string& warning : run.warnings) spdlog::warn("{}", warning);
   out << FitTable(run);

@@ -3,10 +3,13 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "model/equilibrium.h"
 #include "pipelines/commands/command_output.h"
 #include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
+#include "pipelines/formats/mechanism_io.h"
 #include "pipelines/formats/prediction_table.h"
 #include "pipelines/formats/pressure_csv.h"
 #include "util/input_error.h"
@@ -36,6 +39,14 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
   }
   if (!options.output_path.empty()) {
     CheckOutputFile(options.output_path, "--out");
+    const std::vector<std::string> builtins = BuiltinMechanismNames();
+    const bool builtin = std::find(builtins.begin(), builtins.end(),
+                                   options.model.mechanism) != builtins.end();
+    CheckOutputsSpareInputs(
+        {{"the pressures CSV", options.input_path},
+         {"--constants", options.model.constants_path},
+         {"--mechanism", builtin ? "" : options.model.mechanism}},
+        {{"--out", options.output_path}}, {});
   }
   const ResolvedModel resolved = ResolveModel(options.model);
   const Mechanism& mechanism = resolved.mechanism;

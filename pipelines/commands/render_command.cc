@@ -244,6 +244,14 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   CheckOutputFile(options.output_path, "--out");
   CheckOutputFile(options.truth_path, "--truth");
   CheckOutputFile(plan_out, "--plan-out");
+  CheckOutputsSpareInputs({{"--plan", options.plan_path}},
+                          {{"--out", options.output_path},
+                           {"--truth", options.truth_path},
+                           {options.plan_out_path.empty()
+                                ? "--plan-out (by default VIDEO.plan.yaml)"
+                                : "--plan-out",
+                            plan_out}},
+                          {});
   const RenderedVideo rendered = RenderVideo(plan, options.output_path, render);
   WriteFileAtomically(options.truth_path, rendered.truth_csv);
   const fs::path plan_dir = fs::path(plan_out).parent_path();

@@ -106,6 +106,8 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
   }
   MpaPerPressureUnitFlag(options.pressure_unit);  // names the flag
   CheckOutputDirectory(options.output_directory, "--out");
+  CheckOutputsSpareInputs({{"--constants", options.constants_path}}, {},
+                          {{"--out", options.output_directory}});
   if (options.threads < 0) throw InputError("--threads: must be >= 0");
   logs.pressure_unit = options.pressure_unit;
   logs.model_name = variant;

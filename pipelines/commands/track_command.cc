@@ -25,6 +25,9 @@ void AddTrackCommand(CLI::App* c, TrackCommandOptions* options) {
 int RunTrack(const TrackCommandOptions& options, std::ostream& out) {
   const TestPlan plan = LoadTestPlan(options.plan_path);
   CheckOutputFile(options.output_path, "--out");
+  CheckOutputsSpareInputs(
+      {{"the video", options.video_path}, {"--plan", options.plan_path}},
+      {{"--out", options.output_path}}, {});
   VideoMeasurementOptions measure;
   if (!(options.rest_s > 0.0)) throw InputError("--rest-s: must be > 0");
   measure.rest_s = options.rest_s;

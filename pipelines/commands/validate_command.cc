@@ -137,6 +137,16 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   std::optional<PressureLogTimes> log;
   const TestPlan plan = LoadValidationPlan(options, &log);
   CheckOutputDirectory(options.output_directory, "--out");
+  std::vector<NamedPath> inputs = {
+      {"--plan", options.plan_path},
+      {"--pressure-log", options.pressure_log_path},
+      {"--constants", options.constants_path},
+      {"the plan's constants", plan.constants_path},
+      {"the plan's intrinsics", plan.calibration.intrinsics_path}};
+  for (const std::string& video : options.video_paths) {
+    inputs.push_back({"the video", video});
+  }
+  CheckOutputsSpareInputs(inputs, {}, {{"--out", options.output_directory}});
   const int count = static_cast<int>(options.video_paths.size());
   std::vector<VideoValidation> videos(count);
   if (count == 1) {

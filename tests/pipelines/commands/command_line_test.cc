@@ -159,5 +159,52 @@ TEST_F(CommandLineTest, AnUnwritableOutputIsFoundBeforeAnyWork) {
   EXPECT_FALSE(std::filesystem::exists(Path("v.mp4")));
 }
 
+// An output that would overwrite an input (by another name too) or another
+// output, or a report folder that holds an input, is refused before any
+// work, and the input stays as it was.
+TEST_F(CommandLineTest, AnOutputNeverOverwritesAnInput) {
+  const std::string samples = std::string(SOFTBENCH_SOURCE_DIR) + "/samples";
+  const std::string csv = Write("p.csv", "p1_psi,p2_psi,p3_psi\n6,6,0\n");
+  std::filesystem::create_directories(Path("bench"));
+  const std::string plan = Path("bench/run.plan.yaml");
+  std::filesystem::copy_file(samples + "/delta/rendered.plan.yaml", plan);
+  const std::string logs = Path("logs");
+  std::string err;
+  ASSERT_EQ(
+      RunProgram("synth-forces --noise-only --rate 20 --out " + logs, &err), 0)
+      << err;
+  const struct {
+    std::string arguments, expected;
+  } cases[] = {
+      {"predict " + csv + " --out " + Path("bench/../p.csv"),
+       "--out: " + Path("bench/../p.csv") + " is also the pressures CSV (" +
+           csv + "); write to another file"},
+      {"track " + samples + "/delta/delta.mp4 --plan " + plan + " --out " +
+           plan,
+       "--out: " + plan + " is also --plan"},
+      {"render --plan " + plan + " --out " + Path("v.mp4") + " --truth " +
+           Path("v.mp4"),
+       "--truth: " + Path("v.mp4") + " is also --out"},
+      {"render --plan " + plan + " --out " + Path("bench/run.mp4") +
+           " --truth " + Path("t.csv"),
+       "--plan-out (by default VIDEO.plan.yaml): " + plan + " is also --plan"},
+      {"validate " + samples + "/delta/delta.mp4 --plan " + plan + " --out " +
+           Path("bench"),
+       "--out: " + Path("bench") + " is replaced whole, and it holds --plan (" +
+           plan + "), which would be lost"},
+      {"fit " + logs + "/manifest.yaml --out " + Path("c.yaml") + " --report " +
+           logs,
+       "--report: " + logs + " is replaced whole, and it holds the force logs"},
+  };
+  const std::string before = Read(plan);
+  for (const auto& c : cases) {
+    EXPECT_EQ(RunProgram(c.arguments, &err), 2) << c.arguments << "\n" << err;
+    EXPECT_NE(err.find(c.expected), std::string::npos) << err;
+  }
+  EXPECT_EQ(Read(plan), before);
+  EXPECT_TRUE(std::filesystem::exists(logs + "/manifest.yaml"));
+  EXPECT_FALSE(std::filesystem::exists(Path("v.mp4")));
+}
+
 }  // namespace
 }  // namespace softbench
