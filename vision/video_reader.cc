@@ -19,6 +19,7 @@ extern "C" {
 }
 
 #include "util/input_error.h"
+#include "util/input_file.h"
 #include "vision/ffmpeg_util.h"
 
 namespace softbench {
@@ -489,6 +490,11 @@ VideoReader::VideoReader(const std::string& path,
   s.path = path;
   s.options = options;
   av_log_set_level(AV_LOG_QUIET);
+  // A folder, a device or an empty file is named as such, not as data
+  // FFmpeg cannot parse.
+  if (CheckInputFile(path, "video") == 0) {
+    s.Fail("the file is empty (0 bytes); re-copy the video");
+  }
   int err = avformat_open_input(&s.format, path.c_str(), nullptr, nullptr);
   if (err < 0) {
     s.Fail("cannot open the video (" + FfmpegError(err) +

@@ -321,6 +321,23 @@ TEST(VideoIo, UnreadableFilesAreClearErrors) {
   std::ofstream(junk) << "this is not a video";
   EXPECT_THROW(VideoReader reader(junk), InputError);
   EXPECT_THROW(VideoReader reader("/nonexistent/softbench.mp4"), InputError);
+  // An empty file, a folder and a device are named as such.
+  const std::string empty =
+      (fs::temp_directory_path() / "softbench_io_empty.mp4").string();
+  std::ofstream{empty};
+  const auto message = [](const std::string& path) {
+    try {
+      VideoReader reader(path);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("opened");
+  };
+  EXPECT_NE(message(empty).find("the file is empty (0 bytes)"),
+            std::string::npos);
+  EXPECT_NE(message(fs::temp_directory_path().string()).find("is a folder"),
+            std::string::npos);
+  EXPECT_NE(message("/dev/null").find("not a regular file"), std::string::npos);
   // A photo (a PNG is refused as rgb24 above the container's kind).
   const std::string still =
       (fs::temp_directory_path() / "softbench_io_still.jpg").string();
