@@ -320,6 +320,19 @@ class ValidateCommandTest : public ScratchDirectoryTest {
   void CheckPhoneFormat(const std::function<void(RenderCommandOptions*)>& set);
   ValidateCommandOptions CheckClockOffset(const std::string& sample,
                                           const std::string& log, int windows);
+  // Validate's options for the delta sample's video against `plan` (YAML
+  // text, written to plan.yaml), reporting to report/.
+  ValidateCommandOptions DeltaWithPlan(const std::string& plan,
+                                       bool windows_only) const {
+    ValidateCommandOptions options;
+    options.video_paths = {std::string(SOFTBENCH_SOURCE_DIR) +
+                           "/samples/delta/delta.mp4"};
+    options.plan_path = Write("plan.yaml", plan);
+    options.output_directory = Path("report");
+    options.windows_only = windows_only;
+    options.quiet = true;
+    return options;
+  }
   // Validate's options for the rendered clip, reporting to `directory`.
   ValidateCommandOptions ValidateClip(const RenderCommandOptions& render,
                                       const std::string& directory) {
@@ -341,12 +354,8 @@ class ValidateCommandTest : public ScratchDirectoryTest {
     if (plan.find(from) != std::string::npos) {
       plan.replace(plan.find(from), from.size(), to);
     }
-    ValidateCommandOptions options;
-    options.video_paths = {std::string(SOFTBENCH_SOURCE_DIR) +
-                           "/samples/delta/delta.mp4"};
-    options.plan_path = Write("plan.yaml", plan);
-    options.output_directory = Path("report");
-    options.quiet = true;
+    const ValidateCommandOptions options =
+        DeltaWithPlan(plan, /*windows_only=*/false);
     std::ostringstream out;
     std::string message;
     try {
@@ -726,12 +735,7 @@ TEST_F(ValidateCommandTest, NamesTestsThatDoNotMoveAsTheirPlanEntries) {
   };
   swap("pressures: [6, 3, 0]", "pressures: [6, 0, 0]");  // t2a <-> t3a
   plan += "  - {id: extra, pressures: [1, 1, 1], skipped: true}\n";
-  ValidateCommandOptions options;
-  options.video_paths = {sample + "/delta/delta.mp4"};
-  options.plan_path = Write("plan.yaml", plan);
-  options.output_directory = Path("report");
-  options.windows_only = true;
-  options.quiet = true;
+  ValidateCommandOptions options = DeltaWithPlan(plan, /*windows_only=*/true);
   std::ostringstream out;
   EXPECT_EQ(RunValidate(options, out), kExitSomeTestsNotScored);
   EXPECT_NE(out.str().find("not scored, their motion does not fit their plan "
@@ -782,12 +786,8 @@ TEST_F(ValidateCommandTest, ScoresNothingWhenThePlansTimesAreShifted) {
     shifted += line + "\n";
   }
   ASSERT_NE(shifted.find("actuate_s: 5.0"), std::string::npos) << shifted;
-  ValidateCommandOptions options;
-  options.video_paths = {sample + "/delta/delta.mp4"};
-  options.plan_path = Write("plan.yaml", shifted);
-  options.output_directory = Path("report");
-  options.windows_only = true;
-  options.quiet = true;
+  ValidateCommandOptions options =
+      DeltaWithPlan(shifted, /*windows_only=*/true);
   std::ostringstream out;
   EXPECT_EQ(RunValidate(options, out), kExitSomeTestsNotScored);
   CsvReader results(Path("report/results.csv"));
@@ -846,12 +846,6 @@ TEST_F(ValidateCommandTest, NamesTestsLostToDamagedVideoData) {
   EXPECT_GT(ok, 0);
 }
 
-}  // namespace
-}  // namespace softbench
-
-namespace softbench {
-namespace {
-
 // A video that stops before the plan does (a phone's storage ran out): the
 // tests beyond its end are named with the reason, the others are scored,
 // and the exit status says the report is not whole. No settling warning is
@@ -862,12 +856,7 @@ TEST_F(ValidateCommandTest, NamesTestsBeyondTheVideosEnd) {
   const std::string last = "actuate_s: 106, release_s: 111";
   ASSERT_NE(plan.find(last), std::string::npos);
   plan.replace(plan.find(last), last.size(), "actuate_s: 206, release_s: 211");
-  ValidateCommandOptions options;
-  options.video_paths = {sample + "/delta/delta.mp4"};
-  options.plan_path = Write("plan.yaml", plan);
-  options.output_directory = Path("report");
-  options.windows_only = true;
-  options.quiet = true;
+  ValidateCommandOptions options = DeltaWithPlan(plan, /*windows_only=*/true);
   std::ostringstream out;
   EXPECT_EQ(RunValidate(options, out), kExitSomeTestsNotScored);
   EXPECT_NE(out.str().find("not measured: t7b (initial window 205.00-206.00 "
