@@ -293,7 +293,10 @@ FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
   }
   out.registered = true;
   out.shift_px = motion.ShiftPx(camera_.intrinsics());
-  if (out.tag_used) last_corners_ = *corners;
+  if (out.tag_used) {
+    out.tag_corners = corners;
+    last_corners_ = *corners;
+  }
   last_motion_ = motion;
   return out;
 }

@@ -64,6 +64,8 @@ struct FrameRegistration {
   Eigen::Vector2d shift_px = Eigen::Vector2d::Zero();  // motion.ShiftPx
   double residual_px = 0.0;  // RMS misfit of the points kept
   bool tag_used = false;
+  // The tag's corners located in this frame, when they were used.
+  std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
   int patches_used = 0;
   // 2: pan and tilt; 3: and roll; 4: and scale.
   int parameters = 2;

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 namespace softbench {
 namespace {
@@ -39,27 +40,6 @@ Eigen::Matrix3f InBgrOrder(const Eigen::Matrix3d& rgb) {
   }
   return bgr;
 }
-
-// Linear levels (in [0, 1]) to 16-bit codes, through a table indexed by the
-// square root of the level: fine where the curves are steep, near black.
-class FromLinearTable {
- public:
-  explicit FromLinearTable(Transfer transfer) : codes_(kSize) {
-    for (int i = 0; i < kSize; ++i) {
-      const double s = static_cast<double>(i) / (kSize - 1);
-      codes_[i] = static_cast<uint16_t>(
-          std::lround(65535.0 * FromLinear(transfer, s * s)));
-    }
-  }
-  uint16_t operator()(float linear) const {
-    const float s = std::sqrt(std::clamp(linear, 0.0f, 1.0f));
-    return codes_[static_cast<int>(s * (kSize - 1) + 0.5f)];
-  }
-
- private:
-  static constexpr int kSize = 65536;
-  std::vector<uint16_t> codes_;
-};
 
 }  // namespace
 
@@ -126,6 +106,46 @@ Eigen::Matrix3d Bt709FromBt2020() {
   return m;
 }
 
+const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
+                                          int depth) {
+  CV_Assert(depth == CV_8U || depth == CV_16U);
+  constexpr int kTransfers = 3;
+  static std::array<std::once_flag, kTransfers * 4> built;
+  static std::array<std::vector<float>, kTransfers * 4> tables;
+  const int key = static_cast<int>(encoding.transfer) * 4 +
+                  (encoding.full_range ? 2 : 0) + (depth == CV_16U ? 1 : 0);
+  std::call_once(built[key], [&] {
+    const int codes = depth == CV_16U ? 65536 : 256;
+    // Limited range: black at 16, white at 235 in 8-bit levels, whatever
+    // the depth (deeper luma is scaled to fill 16 bits, luma.h).
+    const double per_level = codes / 256.0;
+    const double black = encoding.full_range ? 0.0 : 16.0 * per_level;
+    const double white = encoding.full_range ? codes - 1.0 : 235.0 * per_level;
+    const double sdr_white = ReferenceWhiteLinear(encoding.transfer);
+    std::vector<float>& table = tables[key];
+    table.resize(codes);
+    for (int i = 0; i < codes; ++i) {
+      table[i] = static_cast<float>(
+          255.0 * ToLinear(encoding.transfer, (i - black) / (white - black)) /
+          sdr_white);
+    }
+  });
+  return tables[key];
+}
+
+CodeFromLinearTable::CodeFromLinearTable(Transfer transfer) : codes_(kSize) {
+  for (int i = 0; i < kSize; ++i) {
+    const double s = static_cast<double>(i) / (kSize - 1);
+    codes_[i] = static_cast<uint16_t>(
+        std::lround(65535.0 * FromLinear(transfer, s * s)));
+  }
+}
+
+uint16_t CodeFromLinearTable::operator()(float linear) const {
+  const float s = std::sqrt(std::clamp(linear, 0.0f, 1.0f));
+  return codes_[static_cast<int>(s * (kSize - 1) + 0.5f)];
+}
+
 SdrConverter::SdrConverter(const ColorEncoding& from, double white_linear)
     : to_linear_(65536), from_linear_(65536) {
   for (int i = 0; i < 65536; ++i) {
@@ -173,11 +193,11 @@ cv::Mat ConvertFromSdr(const cv::Mat& bgr, const ColorEncoding& to) {
   const bool mix = to.primaries == Primaries::kBt2020;
   const Eigen::Matrix3f mixing = mix ? InBgrOrder(Bt709FromBt2020().inverse())
                                      : Eigen::Matrix3f::Identity();
-  static const FromLinearTable sdr(Transfer::kSdr), hlg(Transfer::kHlg),
+  static const CodeFromLinearTable sdr(Transfer::kSdr), hlg(Transfer::kHlg),
       pq(Transfer::kPq);
-  const FromLinearTable& table = to.transfer == Transfer::kHlg  ? hlg
-                                 : to.transfer == Transfer::kPq ? pq
-                                                                : sdr;
+  const CodeFromLinearTable& table = to.transfer == Transfer::kHlg  ? hlg
+                                     : to.transfer == Transfer::kPq ? pq
+                                                                    : sdr;
   cv::Mat out(bgr.size(), CV_16UC3);
   cv::parallel_for_(cv::Range(0, bgr.rows), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {

@@ -61,6 +61,37 @@ class SdrConverter {
   bool mix_ = false;                  // whether the primaries change
 };
 
+// How a luma plane's codes encode light: the transfer, and whether black
+// and white are at the ends of the codes (full range) or at 16 and 235 in
+// 8-bit levels (limited range, the default of video).
+struct LumaEncoding {
+  Transfer transfer = Transfer::kSdr;
+  bool full_range = true;  // images (PNG, JPEG) are full range
+};
+
+// Linear light per luma code, in 8-bit levels of SDR white (0 at black, 255
+// at BT.2408's reference white, so thresholds mean the same in SDR and HDR;
+// HDR highlights go above): one entry per code of CV_8U (256) or CV_16U (65536)
+// luma (vision/luma.h). A lens blurs light, not codes, so sub-pixel edges are
+// located in linear light; for grey (a tag's ink and paper) luma is the
+// channels' code, so its linearisation is the grey's light. Built once per
+// encoding and depth; thread-safe.
+const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
+                                          int depth);
+
+// FromLinear as 16-bit codes (65535 = 1.0) through a table indexed by the
+// square root of the level: fine where the curves are steep, near black, and
+// fast enough for every pixel of a rendered frame.
+class CodeFromLinearTable {
+ public:
+  explicit CodeFromLinearTable(Transfer transfer);
+  uint16_t operator()(float linear) const;  // linear in [0, 1], clamped
+
+ private:
+  static constexpr int kSize = 65536;
+  std::vector<uint16_t> codes_;
+};
+
 // The reverse, for rendering HDR footage: SDR BT.709 R'G'B' (CV_8UC3, or
 // CV_16UC3 with 65535 = 1.0) into `to` (CV_16UC3, full range), SDR white at
 // ReferenceWhiteLinear(to.transfer).

@@ -54,6 +54,8 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
   const double inside_sq = (window + 0.5) * (window + 0.5);
   WithLumaType(luma, [&](auto type) {
     using T = decltype(type);
+    const std::vector<float>& linear =
+        LinearLumaTable(options.luma_encoding, cv::DataType<T>::depth);
     for (int y = y0; y <= y1; ++y) {
       const T* row = luma.ptr<T>(y);
       const double dy = y - c.y();
@@ -61,7 +63,7 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
         const double dx = x - c.x();
         const double d2 = dx * dx + dy * dy;
         if (d2 > outer_sq) continue;
-        const BoxPixel p{dx, dy, d2, kLevelsPerCode<T> * row[x]};
+        const BoxPixel p{dx, dy, d2, linear[row[x]]};
         if (d2 >= window_sq) ring.push_back(p);
         if (d2 < inside_sq) inside.push_back(p);
       }

@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "vision/color_transfer.h"
+
 namespace softbench {
 
 struct DotCentreOptions {
@@ -20,9 +22,16 @@ struct DotCentreOptions {
   // background estimate's error, and the loop stops early below tolerance.
   int max_iterations = 8;
   double tolerance_px = 1e-4;
-  // Least |background - dot| luma difference [8-bit levels] to trust the
-  // centre (a red dot on the thesis's clear resin differs by ~120).
+  // Least |background - dot| difference in linear light [8-bit levels] to
+  // trust the centre (a red dot on the thesis's clear resin differs by
+  // ~150).
   double min_contrast = 15.0;
+  // How the luma's codes encode light (FrameSource::luma_encoding): the
+  // coverage weights are taken in linear light, where a pixel's value is
+  // linear in how much of it the dot covers; in codes a camera's curve
+  // bends that and the centre locks toward pixel centres. The default is an
+  // SDR image's.
+  LumaEncoding luma_encoding;
 
   std::optional<std::string> Check() const;
 };

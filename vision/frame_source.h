@@ -28,6 +28,8 @@ class FrameSource {
   virtual cv::Mat BgrRegionReduced(const cv::Rect& region,
                                    const cv::Size& size) const = 0;
   virtual double time_s() const = 0;
+  // How luma's codes encode light (edges are located in linear light).
+  virtual LumaEncoding luma_encoding() const = 0;
 };
 
 // A BGR image (a rendered frame, a PNG) as a frame; luma is OpenCV's
@@ -40,6 +42,7 @@ class ImageFrameSource : public FrameSource {
   cv::Mat BgrRegionReduced(const cv::Rect& region,
                            const cv::Size& size) const override;
   double time_s() const override { return time_s_; }
+  LumaEncoding luma_encoding() const override { return {}; }  // sRGB ~ SDR
 
  private:
   cv::Mat bgr_, luma_;
@@ -61,6 +64,9 @@ class VideoFrameSource : public FrameSource {
     return reader_->BgrRegionReduced(region, size);
   }
   double time_s() const override { return frame_->time_s; }
+  LumaEncoding luma_encoding() const override {
+    return reader_->info().luma_encoding();
+  }
 
  private:
   VideoReader* reader_;

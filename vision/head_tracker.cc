@@ -178,8 +178,10 @@ void HeadTracker::TrackRegions(const FrameSource& frame, int head,
 bool HeadTracker::Refine(const FrameSource& frame, int head, int dot,
                          const Eigen::Vector2d& blob_centroid,
                          const Eigen::Vector2d& start, HeadObservation* out) {
+  DotCentreOptions centre_options = options_.centre;
+  centre_options.luma_encoding = frame.luma_encoding();
   const DotCentre centre =
-      LocateDotCentre(frame.luma(), start, radius_px_[head], options_.centre);
+      LocateDotCentre(frame.luma(), start, radius_px_[head], centre_options);
   if (!centre.found) {
     out->note = fmt::format("dot {}: {}", dot + 1, centre.why_not);
     return false;

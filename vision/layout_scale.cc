@@ -99,9 +99,10 @@ LayoutScale MeasureLayoutScale(const FrameSource& frame,
   } while (std::prev_permutation(select.begin(), select.end()));
   std::vector<Eigen::Vector2d> refined;
   for (int i : chosen) {
-    const DotCentre c =
-        LocateDotCentre(frame.luma(), blobs[i].centroid,
-                        segmentation.dot_radius_px, centre_options);
+    DotCentreOptions options = centre_options;
+    options.luma_encoding = frame.luma_encoding();
+    const DotCentre c = LocateDotCentre(frame.luma(), blobs[i].centroid,
+                                        segmentation.dot_radius_px, options);
     if (!c.found) {
       result.why_not = "a dot's centre: " + c.why_not;
       return result;

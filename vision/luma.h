@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace softbench {
 
@@ -23,18 +24,34 @@ decltype(auto) WithLumaType(const cv::Mat& luma, F&& f) {
   return f(uint8_t{});
 }
 
-// Bilinear sample of luma of type T at (u, v) in 8-bit levels, OpenCV's
-// pixel convention; -1 outside the image.
-template <typename T>
-double SampleLuma(const cv::Mat& luma, double u, double v) {
+// Bilinear interpolation of `value` (of a pixel's luma of type T) at (u, v),
+// OpenCV's pixel convention; -1 outside the image.
+template <typename T, typename F>
+double InterpolateLuma(const cv::Mat& luma, double u, double v, F value) {
   const int x = static_cast<int>(std::floor(u)),
             y = static_cast<int>(std::floor(v));
   if (x < 0 || y < 0 || x + 1 >= luma.cols || y + 1 >= luma.rows) return -1.0;
   const double a = u - x, b = v - y;
   const T* r0 = luma.ptr<T>(y) + x;
   const T* r1 = luma.ptr<T>(y + 1) + x;
-  return kLevelsPerCode<T> * ((1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
-                              b * ((1 - a) * r1[0] + a * r1[1]));
+  return (1 - b) * ((1 - a) * value(r0[0]) + a * value(r0[1])) +
+         b * ((1 - a) * value(r1[0]) + a * value(r1[1]));
+}
+
+// Bilinear sample of luma of type T at (u, v) in 8-bit levels; -1 outside.
+template <typename T>
+double SampleLuma(const cv::Mat& luma, double u, double v) {
+  return InterpolateLuma<T>(luma, u, v,
+                            [](T code) { return kLevelsPerCode<T> * code; });
+}
+
+// SampleLuma of the luma's linear light: each of the four pixels through
+// `linear` (LinearLumaTable, vision/color_transfer.h) before interpolating,
+// as a pixel's light, not its code, is what mixes across an edge.
+template <typename T>
+double SampleLinearLuma(const cv::Mat& luma, const std::vector<float>& linear,
+                        double u, double v) {
+  return InterpolateLuma<T>(luma, u, v, [&](T code) { return linear[code]; });
 }
 
 // Luma as 8 bits (a view when it is already), for detectors that take only
@@ -51,6 +68,21 @@ inline cv::Mat LumaAs8Bit(const cv::Mat& luma) {
 inline cv::Mat LumaAsFloat(const cv::Mat& luma) {
   cv::Mat out;
   luma.convertTo(out, CV_32F, luma.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
+  return out;
+}
+
+// Luma as float linear light: each code through `linear` (LinearLumaTable).
+inline cv::Mat LinearLumaAsFloat(const cv::Mat& luma,
+                                 const std::vector<float>& linear) {
+  cv::Mat out(luma.size(), CV_32FC1);
+  WithLumaType(luma, [&](auto type) {
+    using T = decltype(type);
+    for (int y = 0; y < luma.rows; ++y) {
+      const T* in = luma.ptr<T>(y);
+      float* o = out.ptr<float>(y);
+      for (int x = 0; x < luma.cols; ++x) o[x] = linear[in[x]];
+    }
+  });
   return out;
 }
 

@@ -31,6 +31,8 @@ StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
   SOFTBENCH_CHECK(!options.Check()) << *options.Check();
   const int h = options.half_size_px, side = 2 * h + 1;
   const cv::Mat image = LumaAsFloat(luma);
+  const cv::Mat light = LinearLumaAsFloat(
+      luma, LinearLumaTable(options.luma_encoding, luma.depth()));
   // The structure tensor summed over a patch, at every pixel.
   cv::Mat gx, gy, xx, yy, xy;
   cv::Sobel(image, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
@@ -91,7 +93,7 @@ StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
       t.normal = eigen.eigenvectors().col(1).normalized();
     }
     const cv::Rect box(c.u - h - 1, c.v - h - 1, side + 2, side + 2);
-    const cv::Mat region = image(box);
+    const cv::Mat region = light(box);
     t.values = region(cv::Rect(1, 1, side, side)).clone();
     // Central differences, the same as the bilinear image's slope.
     t.dx = 0.5 * (region(cv::Rect(2, 1, side, side)) -
@@ -135,6 +137,8 @@ bool StaticPatches::Align(const cv::Mat& luma, const Template& t,
   // gain and offset, luma(x + d) = gain * template(x) + offset.
   double gain = 1.0, offset = 0.0;
   Eigen::Vector2d d = *centre;
+  const std::vector<float>& linear =
+      LinearLumaTable(options_.luma_encoding, luma.depth());
   double rms = 0.0;
   for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
     const double x0 = d.x() - h, y0 = d.y() - h;
@@ -148,15 +152,15 @@ bool StaticPatches::Align(const cv::Mat& luma, const Template& t,
     double squares = 0.0;
     WithLumaType(luma, [&](auto type) {
       using T = decltype(type);
-      const double k = kLevelsPerCode<T>;
+      const float* lin = linear.data();
       for (int v = 0; v < side; ++v) {
         const T* r0 = luma.ptr<T>(iy + v) + ix;
         const T* r1 = luma.ptr<T>(iy + v + 1) + ix;
         const float* tv = t.values.ptr<float>(v);
         for (int u = 0; u < side; ++u) {
           const double sample =
-              k * ((1 - b) * ((1 - a) * r0[u] + a * r0[u + 1]) +
-                   b * ((1 - a) * r1[u] + a * r1[u + 1]));
+              (1 - b) * ((1 - a) * lin[r0[u]] + a * lin[r0[u + 1]]) +
+              b * ((1 - a) * lin[r1[u]] + a * lin[r1[u + 1]]);
           const double residual = sample - gain * tv[u] - offset;
           rhs -= Jacobian(t, u, v) * residual;
           squares += residual * residual;

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "vision/color_transfer.h"
+
 namespace softbench {
 
 struct StaticPatchOptions {
@@ -31,6 +33,14 @@ struct StaticPatchOptions {
   // photometric fit, relative to the template's own RMS contrast: more means
   // something covers it or it is not the same surface.
   double max_relative_residual = 0.25;
+  // How the luma's codes encode light (FrameSource::luma_encoding): the
+  // templates and the alignment work in linear light, where a pixel is the
+  // light it gathered, so a fraction-of-a-pixel move of an edge changes its
+  // pixels as interpolation assumes (in codes a transfer curve bends the
+  // edge's profile, and the alignment's bias follows the sub-pixel phase),
+  // and exposure is exactly a gain. The patches are chosen by their slope
+  // in codes, so the choice does not depend on the curve.
+  LumaEncoding luma_encoding;
 
   std::optional<std::string> Check() const;
 };

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "vision/color_transfer.h"
+
 namespace softbench {
 
 struct TagDetectorOptions {
@@ -22,6 +24,10 @@ struct TagDetectorOptions {
   // three times faster on a 1080p frame, and a tag must be ~25 px wide or
   // more per factor to be found.
   float quad_decimate = 2.0f;
+  // How the luma's codes encode light (the video's transfer and range,
+  // VideoInfo::LumaEncoding): edges are located in linear light. The default
+  // is an SDR image's.
+  LumaEncoding luma_encoding;
 
   std::optional<std::string> Check() const;
 };
@@ -71,6 +77,18 @@ class TagDetector {
 std::optional<std::array<Eigen::Vector2d, 4>> RefineTagCorners(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
     const TagDetectorOptions& options, double max_edge_rms_px);
+
+// The tag's corners averaged over frames: each frame's corners first moved
+// onto `reference` by the shift and roll that fit them best (the camera's
+// own small motion since the reference frame), then averaged. A codec's
+// errors of a few hundredths of a pixel per corner are alike within a group
+// of pictures, so the first frames alone leave the tag's perspective - the
+// camera's tilt, a 0.03 px difference between opposite edges on a 135 px
+// tag - wrong by a few tenths of a degree; frames spread over the video
+// average them out. `frames` must not be empty.
+std::array<Eigen::Vector2d, 4> AverageTagCorners(
+    const std::array<Eigen::Vector2d, 4>& reference,
+    const std::vector<std::array<Eigen::Vector2d, 4>>& frames);
 
 }  // namespace softbench
 

@@ -68,6 +68,8 @@ struct VideoInfo {
   // "hevc 1080x1920 yuv420p10le (10-bit 4:2:0, limited range, HLG BT.2020),
   // 29.98 fps variable, rotated 90°".
   std::string Description() const;
+  // How the luma's codes encode light: transfer and range.
+  LumaEncoding luma_encoding() const { return {encoding.transfer, full_range}; }
 };
 
 // The one video reader of softbench (MP4/MOV with H.264 or HEVC, anything

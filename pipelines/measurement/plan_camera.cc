@@ -27,7 +27,8 @@ std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
   std::set<int> other_ids;
   VideoFrame frame;
   int frames = 0;
-  const TagDetector detector;
+  const TagDetector detector(
+      TagDetectorOptions{.luma_encoding = reader.info().luma_encoding()});
   // The tag stays put: after the first frame that shows it, only the region
   // around it (grown by half its size) is searched, ten times faster.
   cv::Rect region;

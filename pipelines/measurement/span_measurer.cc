@@ -83,7 +83,9 @@ RegistrationReference MakeRegistrationReference(
   if (tag_corners) {
     TagReference& tag = reference.tag.emplace();
     tag.id = plan.calibration.tag->id;
-    tag.corners = RefineTagCorners(reference.luma, *tag_corners, {}, 0.25)
+    TagDetectorOptions options;
+    options.luma_encoding = first.luma_encoding();
+    tag.corners = RefineTagCorners(reference.luma, *tag_corners, options, 0.25)
                       .value_or(*tag_corners);
   }
   return reference;

@@ -53,8 +53,48 @@ void MotionSignal(const VideoMeasurement& measurement, std::vector<double>* t,
   }
 }
 
-// Excursions above the threshold, merged across short gaps, as [first,
-// last] frames; those shorter than a hold dropped.
+// Splits the excursion [first, last] where it comes down to a rest that is
+// not the first one: a test point that slips (hysteresis) leaves the head
+// off its rest, so the next test's excursion joins it. A rest is at least
+// `min_rest_s` of frames below half of both holds beside it (the largest
+// motion before and after it in the excursion); what is left of the
+// excursion either side is appended to `out` as [first, last] frames.
+void SplitAtRests(const std::vector<double>& t,
+                  const std::vector<double>& motion, size_t first, size_t last,
+                  double min_rest_s,
+                  std::vector<std::pair<size_t, size_t>>* out) {
+  std::vector<double> before(last - first + 1), after(last - first + 1);
+  for (size_t i = first; i <= last; ++i) {
+    before[i - first] =
+        std::max(motion[i], i > first ? before[i - first - 1] : 0.0);
+  }
+  for (size_t i = last + 1; i-- > first;) {
+    after[i - first] =
+        std::max(motion[i], i < last ? after[i - first + 1] : 0.0);
+  }
+  const auto resting = [&](size_t i) {
+    return motion[i] < 0.5 * std::min(before[i - first], after[i - first]);
+  };
+  size_t start = first;
+  for (size_t i = first; i <= last;) {
+    if (!resting(i)) {
+      ++i;
+      continue;
+    }
+    size_t end = i;
+    while (end + 1 <= last && resting(end + 1)) ++end;
+    if (t[end] - t[i] >= min_rest_s && i > start) {
+      out->push_back({start, i - 1});
+      start = end + 1;
+    }
+    i = end + 1;
+  }
+  if (start <= last) out->push_back({start, last});
+}
+
+// Excursions above the threshold, merged across short gaps and split at
+// rests off the first one, as [first, last] frames; those shorter than a
+// hold dropped.
 std::vector<std::pair<size_t, size_t>> Excursions(
     const std::vector<double>& t, const std::vector<double>& motion,
     double threshold_mm, const TestPointDetectionOptions& options) {
@@ -67,10 +107,14 @@ std::vector<std::pair<size_t, size_t>> Excursions(
       runs.push_back({i, i});
     }
   }
-  std::erase_if(runs, [&](const std::pair<size_t, size_t>& run) {
+  std::vector<std::pair<size_t, size_t>> split;
+  for (const auto& [first, last] : runs) {
+    SplitAtRests(t, motion, first, last, options.min_gap_s, &split);
+  }
+  std::erase_if(split, [&](const std::pair<size_t, size_t>& run) {
     return t[run.second] - t[run.first] < options.min_hold_s;
   });
-  return runs;
+  return split;
 }
 
 // One excursion's test point: its hold level, and the crossings of a

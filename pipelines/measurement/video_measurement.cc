@@ -54,8 +54,9 @@ std::vector<TimeSpan> MergeSpans(std::vector<TimeSpan> spans, double duration_s,
 }
 
 // Replaces each registered frame's own camera motion by the camera's path
-// (SmoothCameraPath: knocks kept, a codec's slow wobble of the static edges
-// averaged) and measures its heads again through it.
+// (SmoothCameraPath: knocks kept, tremor followed, a codec's slow wobble of
+// a still camera's static edges averaged) and measures its heads again
+// through `mapping` (the tag over the whole video) moved by it.
 void FollowCameraPath(const PlaneMapping& mapping, const HeadTracker& tracker,
                       const CameraPathOptions& options, double frame_interval_s,
                       std::vector<FrameSample>* frames) {
@@ -157,6 +158,8 @@ Registrations MakeRegistrations(
     const std::optional<std::array<Eigen::Vector2d, 4>>& tag_corners,
     const VideoMeasurementOptions& options, std::string* why_still) {
   Registrations r{std::nullopt, intrinsics, options.registration};
+  r.options.tag.luma_encoding = first.luma_encoding();
+  r.options.patches.luma_encoding = first.luma_encoding();
   *why_still = "off: the camera is taken to be still";
   if (!options.register_frames) return r;
   r.reference = MakeRegistrationReference(plan, first, mapping, tag_corners);
@@ -168,6 +171,33 @@ Registrations MakeRegistrations(
         "the camera is taken to be still";
   }
   return r;
+}
+
+// The plan's tag mapping again from the tag's corners in every registered
+// frame (AverageTagCorners), once there are at least `min_frames` of them:
+// the first frames' mapping tilts the plane by a few tenths of a degree on
+// codec noise, which bends the scale across the field (0.065 % at a head
+// 67 mm from the tag). Sets `m`'s mapping and scale; else keeps them.
+PlaneMapping TagMappingOverTheVideo(const TestPlan& plan,
+                                    const CameraIntrinsics& intrinsics,
+                                    const Registrations& registrations,
+                                    int min_frames, VideoMeasurement* m) {
+  if (!registrations.reference || !registrations.reference->tag) {
+    return *m->mapping;
+  }
+  std::vector<std::array<Eigen::Vector2d, 4>> seen;
+  for (const FrameSample& f : m->frames) {
+    if (f.registered && f.tag_corners) seen.push_back(*f.tag_corners);
+  }
+  if (static_cast<int>(seen.size()) < min_frames) return *m->mapping;
+  const CalibrationSpec& c = plan.calibration;
+  m->mapping = PlaneMapping::FromTag(
+      intrinsics,
+      AverageTagCorners(registrations.reference->tag->corners, seen),
+      c.tag->size_mm, c.plane_offset_mm);
+  m->mm_per_px = m->mapping->MmPerPixelAt(
+      Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
+  return *m->mapping;
 }
 
 // The windows in parallel: the first frame alone (it sets the heads'
@@ -351,7 +381,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   progress.Finish();
   for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
   if (m.registers_frames) {
-    FollowCameraPath(mapping, measurers.front().tracker(), options.camera_path,
+    FollowCameraPath(TagMappingOverTheVideo(plan, intrinsics, registrations,
+                                            options.tag_frames, &m),
+                     measurers.front().tracker(), options.camera_path,
                      info.frame_interval_s, &m.frames);
   }
   Finish(plan, info, options.rest_s, &m);

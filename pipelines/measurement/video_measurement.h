@@ -69,6 +69,8 @@ struct FrameSample {
   CameraMotion camera_motion;  // the camera's path (SmoothCameraPath)
   Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Zero();
   double camera_roll_rad = 0.0;
+  // The tag's corners in this frame, where registration located them.
+  std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
 };
 
 // The heads of one frame, cut out for the report's annotated pictures.

@@ -13,19 +13,34 @@
 #include "model/units.h"
 #include "pipelines/formats/dot_colors.h"
 #include "util/input_error.h"
+#include "vision/color_transfer.h"
 
 namespace softbench {
 namespace {
 
-// Layer colours (BGR, linear 0..255). Clear resin heads and ring, pale
-// bellows, a grey-brown table, white paper and black ink for the tag.
-const cv::Vec3f kRingColor(196, 200, 202);
-const cv::Vec3f kHeadColor(214, 217, 220);
-const cv::Vec3f kBellowsColor(176, 186, 196);
-const cv::Vec3f kTableColor(92, 108, 124);
-const cv::Vec3f kPaperColor(236, 238, 238);
-const cv::Vec3f kInkColor(22, 22, 24);
-const cv::Vec3f kGlintColor(255, 255, 255);
+// Linear light (8-bit levels) of BT.709 codes (8-bit levels). The scene's
+// colours are given as a camera shows them, so flat areas keep these codes
+// under even light; they are composed, blurred, moved and lit in light, as
+// a lens and sensor do, and encoded with the BT.709 curve only at the end.
+cv::Vec3f LinearLevels(const cv::Vec3f& code) {
+  cv::Vec3f light;
+  for (int c = 0; c < 3; ++c) {
+    light[c] =
+        static_cast<float>(255.0 * ToLinear(Transfer::kSdr, code[c] / 255.0));
+  }
+  return light;
+}
+
+// Layer colours (BGR, linear light from 8-bit codes). Clear resin heads and
+// ring, pale bellows, a grey-brown table, white paper and black ink for the
+// tag.
+const cv::Vec3f kRingColor = LinearLevels({196, 200, 202});
+const cv::Vec3f kHeadColor = LinearLevels({214, 217, 220});
+const cv::Vec3f kBellowsColor = LinearLevels({176, 186, 196});
+const cv::Vec3f kTableCode(92, 108, 124);
+const cv::Vec3f kPaperColor = LinearLevels({236, 238, 238});
+const cv::Vec3f kInkColor = LinearLevels({22, 22, 24});
+const cv::Vec3f kGlintColor = LinearLevels({255, 255, 255});
 
 bool InPolygon(const std::vector<Eigen::Vector2d>& ccw,
                const Eigen::Vector2d& p) {
@@ -67,9 +82,9 @@ cv::Vec3f MarkerColorBgr(const std::string& name) {
   if (color == nullptr) {
     throw InputError("marker colour '" + name + "' is not " + DotColorNames());
   }
-  return {static_cast<float>(color->ink_bgr[0]),
-          static_cast<float>(color->ink_bgr[1]),
-          static_cast<float>(color->ink_bgr[2])};
+  return LinearLevels({static_cast<float>(color->ink_bgr[0]),
+                       static_cast<float>(color->ink_bgr[1]),
+                       static_cast<float>(color->ink_bgr[2])});
 }
 
 std::optional<std::string> RenderOptions::Check() const {
@@ -247,8 +262,10 @@ void SceneRenderer::DrawTable() {
   cv::GaussianBlur(fine, fine, cv::Size(), 1.2);
   cv::Mat grain = coarse * (12.0 / 0.045) + fine * 3.0;
   std::vector<cv::Mat> channels(3);
-  for (int c = 0; c < 3; ++c) channels[c] = grain + kTableColor[c];
+  for (int c = 0; c < 3; ++c) channels[c] = grain + kTableCode[c];
   cv::merge(channels, background_);
+  background_.forEach<cv::Vec3f>(
+      [](cv::Vec3f& pixel, const int*) { pixel = LinearLevels(pixel); });
 }
 
 // The ring with a pad from each fixed anchor out to it (the mating
@@ -487,6 +504,7 @@ void SceneRenderer::DrawTube(cv::Mat* image) const {
       centre_mm_ + Eigen::Vector2d(-120, -45),
       centre_mm_ + Eigen::Vector2d(-85, -75),
       centre_mm_ + Eigen::Vector2d(-70, -140)};
+  const cv::Vec3f red = MarkerColorBgr("red");
   for (size_t i = 0; i + 1 < path.size(); ++i) {
     const Eigen::Vector2d a = path[i], b = path[i + 1];
     Composite(
@@ -497,7 +515,7 @@ void SceneRenderer::DrawTube(cv::Mat* image) const {
                  height),
         options_.supersampling,
         [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
-          *colour = MarkerColorBgr("red");
+          *colour = red;
           return DistanceToSegment(p, a, b) <= 2.5;
         },
         image);
@@ -566,6 +584,7 @@ cv::Mat SceneRenderer::Render(
   }
   const cv::Vec3f exposure =
       conditions.channel_gain * static_cast<float>(conditions.brightness);
+  static const CodeFromLinearTable bt709(Transfer::kSdr);
   cv::Mat out(linear.size(), options_.sixteen_bit ? CV_16UC3 : CV_8UC3);
   // Fixed stripes, each with its own seeded generator: the same frame for any
   // number of threads.
@@ -586,7 +605,9 @@ cv::Mat SceneRenderer::Render(
         auto* o16 = out.ptr<cv::Vec3w>(v);
         for (int u = 0; u < linear.cols; ++u) {
           for (int c = 0; c < 3; ++c) {
-            const float signal = in[u][c] * g[u] * exposure[c];
+            const float light = in[u][c] * g[u] * exposure[c];
+            // The camera's BT.709 curve, then noise in codes.
+            const float signal = bt709(light / 255.0f) * (255.0f / 65535.0f);
             const float sigma =
                 std::sqrt(static_cast<float>(options_.noise_sigma_dn *
                                              options_.noise_sigma_dn) +

@@ -67,7 +67,8 @@ class SceneRenderer {
 
   const Camera& camera() const { return camera_; }
 
-  // The linear frame (float BGR, 0..255, before lighting and noise) with the
+  // The frame in linear light (float BGR, 8-bit levels, before lighting,
+  // the camera's transfer curve and noise) with the
   // heads at each of `displacement_samples` (y1, z1, ...), averaged: several
   // samples across the exposure give motion blur.
   cv::Mat RenderLinear(const std::vector<Eigen::VectorXd>& displacement_samples,
@@ -75,7 +76,8 @@ class SceneRenderer {
   // The 8-bit frame as the camera records it: RenderLinear seen by the
   // camera after `conditions.motion` (the linear frame resampled exactly
   // along the moved camera's rays, bilinearly in full precision), then
-  // exposure, white balance, lighting, vignetting and noise (seeded by the
+  // exposure, white balance, lighting, vignetting, the BT.709 curve and
+  // noise in codes (seeded by the
   // options' seed and `frame_index`). CV_8UC3, or CV_16UC3 with
   // RenderOptions::sixteen_bit.
   cv::Mat Render(const std::vector<Eigen::VectorXd>& displacement_samples,
@@ -133,7 +135,8 @@ class SceneRenderer {
   cv::Mat gain_;                    // CV_32FC1, lighting x vignetting
 };
 
-// BGR of a marker colour name (test_plan.h's list), as printed dots.
+// BGR of a marker colour name (test_plan.h's list), as printed dots: linear
+// light in 8-bit levels (the ink's BT.709 codes linearised).
 cv::Vec3f MarkerColorBgr(const std::string& name);
 
 }  // namespace softbench

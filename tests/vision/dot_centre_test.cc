@@ -5,12 +5,21 @@
 #include <cmath>
 #include <random>
 
+#include "vision/color_transfer.h"
+
 namespace softbench {
 namespace {
 
+// Linear light (8-bit levels) of a BT.709 code (8-bit levels).
+double Light(double code) { return 255 * ToLinear(Transfer::kSdr, code / 255); }
+
+// The light of the background (code 200) less the dot's (code 80).
+const double kContrast = Light(200.0) - Light(80.0);
+
 // A dark disk on a lighter background under a lighting gradient (which
 // multiplies both), each pixel the exact area average (16 x 16 subsamples)
-// plus Gaussian noise.
+// of light, encoded with the BT.709 curve as a camera does, plus Gaussian
+// noise in codes.
 cv::Mat Disk(const Eigen::Vector2d& centre, double radius, double noise,
              std::mt19937* rng) {
   cv::Mat image(64, 64, CV_8UC1);
@@ -26,8 +35,9 @@ cv::Mat Disk(const Eigen::Vector2d& centre, double radius, double noise,
         }
       }
       const double gain = 1.0 + 0.0015 * x;  // 10 % across the image
+      const double light = gain * (Light(200.0) - kContrast * inside / 256.0);
       const double level =
-          gain * (200.0 - 120.0 * inside / 256.0) + gauss(*rng);
+          255 * FromLinear(Transfer::kSdr, light / 255) + gauss(*rng);
       image.at<uint8_t>(y, x) =
           static_cast<uint8_t>(std::clamp(std::lround(level), 0L, 255L));
     }
@@ -49,7 +59,7 @@ TEST(LocateDotCentre, SubPixelCentresWithHonestUncertainty) {
     ASSERT_TRUE(c.found) << c.why_not;
     sum_sq += (c.centre - truth).squaredNorm() / 2;
     sum_sigma_sq += c.sigma_px * c.sigma_px;
-    EXPECT_NEAR(c.contrast, 120.0 * (1.0 + 0.0015 * truth.x()), 2.0);
+    EXPECT_NEAR(c.contrast, kContrast * (1.0 + 0.0015 * truth.x()), 2.0);
   }
   const double rms = std::sqrt(sum_sq / n), sigma = std::sqrt(sum_sigma_sq / n);
   EXPECT_LT(rms, 0.02);

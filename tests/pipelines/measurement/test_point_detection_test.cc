@@ -87,5 +87,20 @@ TEST(TestPointDetection, IgnoresNoiseSpikesAndBridgesDropouts) {
   EXPECT_NEAR(d.points[1].actuate_s, 10.0, 0.05);
 }
 
+// A test point that slips leaves the head 0.1 mm off its rest (hysteresis)
+// until the next one: two test points still, not one long one.
+TEST(TestPointDetection, SplitsTestPointsJoinedByASlip) {
+  const std::vector<Step> steps = {{2.0, 7.0, {-1.1, 0.65}},
+                                   {7.0, 10.0, {0.1, 0.0}},
+                                   {10.0, 15.0, {0.0, 1.29}}};
+  const TestPointDetection d = DetectTestPoints(
+      Synthetic(steps, 18.0, 0.15, 0.001), 2, TestPointDetectionOptions());
+  ASSERT_TRUE(d.found) << d.why_not;
+  EXPECT_NEAR(d.points[0].actuate_s, 2.0, 0.04);
+  EXPECT_NEAR(d.points[0].release_s, 7.0, 0.04);
+  EXPECT_NEAR(d.points[1].actuate_s, 10.0, 0.04);
+  EXPECT_NEAR(d.points[1].release_s, 15.0, 0.04);
+}
+
 }  // namespace
 }  // namespace softbench

@@ -10,6 +10,7 @@
 #include "pipelines/synthetic/render_timeline.h"
 #include "pipelines/synthetic/scene_renderer.h"
 #include "util/csv.h"
+#include "vision/color_transfer.h"
 #include "vision/tag_detector.h"
 #include "vision/video_reader.h"
 
@@ -37,17 +38,22 @@ RenderOptions Clean(double tilt_deg) {
   return options;
 }
 
+// Linear light (8-bit levels) of a BT.709 code (8-bit levels).
+double Light(double code) { return 255 * ToLinear(Transfer::kSdr, code / 255); }
+
 // Centre of the dot near `pixel` from the green channel's contrast between
-// head and dot: the weight is exactly the dot's coverage of each pixel.
+// head and dot in light (a recorded frame's codes linearised): the weight is
+// exactly the dot's coverage of each pixel.
 Eigen::Vector2d CoverageCentroid(const cv::Mat& image,
                                  const Eigen::Vector2d& pixel) {
-  const double head = 217.0, dot = 40.0;  // kHeadColor / red, green channel
+  // kHeadColor / red's green codes.
+  const double head = Light(217.0), dot = Light(40.0);
   double sum = 0, su = 0, sv = 0;
   for (int v = static_cast<int>(pixel.y()) - 16; v <= pixel.y() + 16; ++v) {
     for (int u = static_cast<int>(pixel.x()) - 16; u <= pixel.x() + 16; ++u) {
       const double value = image.depth() == CV_32F
                                ? image.at<cv::Vec3f>(v, u)[1]
-                               : image.at<cv::Vec3b>(v, u)[1];
+                               : Light(image.at<cv::Vec3b>(v, u)[1]);
       const double w = (head - value) / (head - dot);
       sum += w, su += w * u, sv += w * v;
     }
@@ -256,6 +262,66 @@ TEST(RenderCommand, RendersAreReproducibleFromTheSeed) {
   }
   EXPECT_GT(bytes[0].size(), 1000u);
   EXPECT_EQ(bytes[0], bytes[1]);
+}
+
+}  // namespace
+}  // namespace softbench
+
+namespace softbench {
+namespace {
+
+// Mean distance of the corners from their centroid: the tag's size.
+double TagSize(const std::vector<Eigen::Vector2d>& corners) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& c : corners) centre += c / corners.size();
+  double size = 0.0;
+  for (const Eigen::Vector2d& c : corners) {
+    size += (c - centre).norm() / corners.size();
+  }
+  return size;
+}
+
+// Luma of a grey-on-grey frame (any channel: the tag is grey) in `encoding`,
+// as a video of that encoding decodes it (CV_16UC1 filling 16 bits).
+cv::Mat LumaIn(const cv::Mat& bgr_sdr, const LumaEncoding& encoding) {
+  const cv::Mat coded = ConvertFromSdr(
+      bgr_sdr, ColorEncoding{encoding.transfer, Primaries::kBt709});
+  cv::Mat luma;
+  cv::extractChannel(coded, luma, 1);
+  if (!encoding.full_range) {
+    luma.convertTo(luma, CV_16U, 219.0 / 255.0, 16.0 * 256.0);
+  }
+  return luma;
+}
+
+TEST(SceneRenderer, TagIsMeasuredInLightWhateverTheTransferCurve) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  const SceneRenderer renderer(plan, Clean(0.0));
+  const cv::Mat bgr = renderer.Render({Eigen::Vector2d::Zero()}, 0);
+  const double truth = TagSize(renderer.TagCorners());
+  for (Transfer transfer : {Transfer::kSdr, Transfer::kHlg, Transfer::kPq}) {
+    for (bool full_range : {true, false}) {
+      const LumaEncoding encoding{transfer, full_range};
+      const cv::Mat luma = LumaIn(bgr, encoding);
+      const auto size = [&](const LumaEncoding& assumed) {
+        const std::vector<TagDetection> tags =
+            TagDetector({.luma_encoding = assumed}).Detect(luma);
+        EXPECT_EQ(tags.size(), 1u);
+        return tags.empty()
+                   ? 0.0
+                   : TagSize({tags[0].corners.begin(), tags[0].corners.end()});
+      };
+      // Exact to 1e-4 (0.007 px on this 140 px tag).
+      EXPECT_NEAR(size(encoding) / truth, 1.0, 1e-4)
+          << encoding.full_range << static_cast<int>(transfer);
+      // Linearised with another curve the edges move by a tenth of a pixel
+      // or more (as integrating in codes would): the encoding is used.
+      const LumaEncoding wrong{
+          transfer == Transfer::kPq ? Transfer::kSdr : Transfer::kPq,
+          full_range};
+      EXPECT_GT(std::abs(size(wrong) / truth - 1.0), 2e-3);
+    }
+  }
 }
 
 }  // namespace
