@@ -194,8 +194,6 @@ class SpanMeasurer {
       return false;
     }
     sample->camera_motion = r.motion;
-    sample->camera_shift_px = r.shift_px;
-    sample->camera_roll_rad = r.motion.roll_rad();
     sample->tag_corners = r.tag_corners;
     tracker_.SetMapping(
         mapping_.AfterCameraMotion(r.motion.CurrentFromReference()));
