@@ -25,10 +25,12 @@ LIBRARIES = {
                          {"formats", "calibration"}),
     "synthetic": ("pipelines/synthetic",
                   {"formats", "vision", "calibration", "characterisation"}),
+    "targets": ("pipelines/targets", {"vision", "calibration"}),
     "reports": ("pipelines/reports", {"validation", "characterisation"}),
     "commands": ("pipelines/commands",
                  {"reports", "synthetic", "validation", "characterisation",
-                  "measurement", "formats", "vision", "calibration"}),
+                  "measurement", "formats", "vision", "calibration",
+                  "targets"}),
 }
 # Pairs that must never meet, whatever else changes (the rules).
 FORBIDDEN = [

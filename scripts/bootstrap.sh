@@ -10,6 +10,9 @@ packages=(
   libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev
   libfmt-dev libspdlog-dev libfast-float-dev
   libopencv-dev libapriltag-dev
+  libcairo2-dev        # softbench targets: the printable sheets (PDF, SVG)
+  libpoppler-cpp-dev   # the tests rasterise those sheets to measure them
+  opencv-doc           # the tests calibrate on its chessboard photos left*.jpg
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
   libgtest-dev libbenchmark-dev nlohmann-json3-dev
   chromium  # the tests open every HTML report in it (report/check_in_chromium.sh)

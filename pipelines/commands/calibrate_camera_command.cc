@@ -4,7 +4,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 
 #include "calibration/camera_calibration.h"
@@ -78,14 +77,7 @@ std::string ViewErrorsTable(const BoardViews& views,
 int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
                        std::ostream& out) {
   CameraCalibrationOptions calibration;
-  int cx = 0, cy = 0;
-  char x = 0;
-  if (std::sscanf(options.board.c_str(), "%d%c%d", &cx, &x, &cy) != 3 ||
-      x != 'x') {
-    throw InputError("--board: '" + options.board +
-                     "' is not COLUMNSxROWS of inner corners, e.g. 9x6");
-  }
-  calibration.board = {cx, cy, options.square_mm};
+  calibration.board = ParseBoardFlag(options.board, options.square_mm);
   calibration.fit_k3 = options.fit_k3;
   if (auto problem = calibration.Check())
     throw InputError("--board: " + *problem);

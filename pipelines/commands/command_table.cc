@@ -9,6 +9,7 @@
 #include "pipelines/commands/predict_command.h"
 #include "pipelines/commands/render_command.h"
 #include "pipelines/commands/synth_forces_command.h"
+#include "pipelines/commands/targets_command.h"
 #include "pipelines/commands/track_command.h"
 #include "pipelines/commands/tune_command.h"
 #include "pipelines/commands/validate_command.h"
@@ -59,6 +60,10 @@ std::span<const Command> Commands() {
                   "Show one frame's colour segmentation and suggest HSV "
                   "bounds for a plan",
                   &AddTuneCommand, &RunTune),
+      MakeCommand("targets",
+                  "Print-ready AprilTag, checkerboard and dot stickers (PDF, "
+                  "SVG) at exact size",
+                  &AddTargetsCommand, &RunTargets),
       MakeCommand(
           "calibrate-camera",
           "Camera intrinsics and lens distortion from checkerboard views",

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -47,6 +48,18 @@ void CheckWritableFolder(const fs::path& folder, const std::string& path,
 
 void AddPlanOption(CLI::App* command, std::string* path) {
   command->add_option("--plan", *path, "test plan YAML")->required();
+}
+
+BoardOptions ParseBoardFlag(const std::string& board, double square_mm) {
+  int columns = 0, rows = 0;
+  char x = 0;
+  char rest = 0;
+  if (std::sscanf(board.c_str(), "%d%c%d%c", &columns, &x, &rows, &rest) != 3 ||
+      x != 'x') {
+    throw InputError("--board: '" + board +
+                     "' is not COLUMNSxROWS of inner corners, e.g. 9x6");
+  }
+  return {columns, rows, square_mm};
 }
 
 CLI::Option* AddOutOption(CLI::App* command, std::string* path,

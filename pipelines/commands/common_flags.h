@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "calibration/camera_calibration.h"
 #include "util/csv.h"
 
 namespace softbench {
@@ -29,6 +30,10 @@ void AddNoRegistrationFlag(CLI::App* command, bool* no_registration);
 void AddDecimalCommaFlag(CLI::App* command, bool* decimal_comma);
 // The decimal mark the flag declares.
 DecimalMark DecimalMarkFromFlag(bool decimal_comma);
+
+// --board COLUMNSxROWS of inner corners ("9x6") with --square-mm, as
+// calibrate-camera and targets take them; unchecked beyond the syntax.
+BoardOptions ParseBoardFlag(const std::string& board, double square_mm);
 
 // Checks, before any work, that a file can be written at `path` ('-' is
 // standard output): its folder exists and is writable and `path` is not a

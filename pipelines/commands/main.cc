@@ -13,6 +13,7 @@
 
 #include "pipelines/commands/command_table.h"
 #include "util/input_error.h"
+#include "util/version.h"
 
 namespace {
 
@@ -56,8 +57,8 @@ int main(int argc, char** argv) {
   // Global options work anywhere on the line: an option a subcommand does
   // not know falls through to here (`softbench validate ... -q`).
   app.fallthrough();
-  app.set_version_flag("--version",
-                       std::string("softbench ") + SOFTBENCH_VERSION);
+  app.set_version_flag(
+      "--version", std::string("softbench ") + softbench::SoftbenchVersion());
   softbench::GlobalFlags global;
   app.add_flag("--quiet,-q", global.quiet,
                "print errors only (no progress, no warnings)");

@@ -95,8 +95,10 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
     }
     if (const YAML::Node id = tag_node["id"]) {
       const double value = reader.Number(id, "id");
-      if (value < 0 || value >= 587 || value != std::floor(value)) {
-        reader.Fail(id, "id", "must be a whole number from 0 to 586");
+      if (value < 0 || value >= kTag36h11Codes || value != std::floor(value)) {
+        reader.Fail(id, "id",
+                    fmt::format("must be a whole number from 0 to {}",
+                                kTag36h11Codes - 1));
       }
       tag.id = static_cast<int>(value);
     }

@@ -13,6 +13,9 @@
 
 namespace softbench {
 
+// tag36h11's ids run from 0 to kTag36h11Codes - 1.
+inline constexpr int kTag36h11Codes = 587;
+
 // The AprilTag that gives scale and axes (thesis 4.1.3 used a pixel-to-mm
 // factor instead). Its printed +x edge is world +y, its printed "up" world +z.
 struct TagSpec {

@@ -1,8 +1,5 @@
 #include "pipelines/synthetic/scene_renderer.h"
 
-#include <apriltag/apriltag.h>
-#include <apriltag/tag36h11.h>
-
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
@@ -14,6 +11,7 @@
 #include "pipelines/formats/dot_colors.h"
 #include "util/input_error.h"
 #include "vision/color_transfer.h"
+#include "vision/tag_bitmap.h"
 
 namespace softbench {
 namespace {
@@ -296,10 +294,9 @@ void SceneRenderer::DrawRing() {
 // white quiet zone; size_mm spans the black border (width_at_border).
 void SceneRenderer::DrawTag() {
   const Eigen::Matrix3d on_ring = camera_.NormalizedFromPlane(0.0).inverse();
-  apriltag_family_t* family = tag36h11_create();
-  image_u8_t* bitmap = apriltag_to_image(family, plan_.calibration.tag->id);
-  const double cell = plan_.calibration.tag->size_mm / family->width_at_border;
-  const int cells = family->total_width;
+  const TagBitmap bitmap = Tag36h11Bitmap(plan_.calibration.tag->id);
+  const double cell = plan_.calibration.tag->size_mm / bitmap.width_at_border;
+  const int cells = bitmap.total_width;
   const double half = cell * cells / 2.0;
   Composite(
       *pixels_, on_ring,
@@ -310,17 +307,12 @@ void SceneRenderer::DrawTag() {
         const double col = std::floor((d.x() + half) / cell);
         const double row = std::floor((half - d.y()) / cell);
         if (col < 0 || row < 0 || col >= cells || row >= cells) return false;
-        const uint8_t v = bitmap->buf[static_cast<int>(row) * bitmap->stride +
-                                      static_cast<int>(col)];
-        *colour = v > 127 ? kPaperColor : kInkColor;
+        *colour = bitmap.IsWhite(static_cast<int>(row), static_cast<int>(col))
+                      ? kPaperColor
+                      : kInkColor;
         return true;
       },
       &background_);
-  // Debian's libapriltag does not export image_u8_destroy; the image and its
-  // buffer are both calloc'd by image_u8_create_stride.
-  free(bitmap->buf);
-  free(bitmap);
-  tag36h11_destroy(family);
 }
 
 void SceneRenderer::MakeGain() {
