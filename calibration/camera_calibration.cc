@@ -58,6 +58,21 @@ std::vector<cv::Point2f> FindBoardCorners(const cv::Mat& gray,
   return corners;
 }
 
+std::optional<cv::Size> CountBoardCorners(const cv::Mat& gray) {
+  cv::Mat gray8 = gray;
+  if (gray.depth() == CV_16U) gray.convertTo(gray8, CV_8U, 1.0 / 256.0);
+  std::vector<cv::Point2f> corners;
+  cv::Mat meta;
+  // The smallest pattern that is not square: with CALIB_CB_LARGER the
+  // detector grows it to the whole board and `meta` takes the board's size.
+  if (!cv::findChessboardCornersSB(gray8, cv::Size(4, 3), corners,
+                                   cv::CALIB_CB_LARGER, meta) ||
+      meta.empty()) {
+    return std::nullopt;
+  }
+  return cv::Size(meta.cols, meta.rows);
+}
+
 CameraCalibrationSummary CalibrateCamera(
     const std::vector<std::vector<cv::Point2f>>& corners_per_view,
     const cv::Size& image_size, const CameraCalibrationOptions& options) {

@@ -42,6 +42,18 @@ struct BoardOptions {
 std::vector<cv::Point2f> FindBoardCorners(const cv::Mat& gray,
                                           const BoardOptions& options);
 
+// The inner corners (columns x rows, in the image's own orientation) of the
+// checkerboard in `gray` whatever its size: OpenCV's sector-based detector
+// allowed to find a board larger than 4 x 3. nullopt when none is seen. Used
+// to tell a user which --board the print has; one view can over- or
+// under-count by a row, so callers take the most common answer of several.
+std::optional<cv::Size> CountBoardCorners(const cv::Mat& gray);
+
+// The same board either way round (9 x 6 is 6 x 9 turned).
+inline bool SameBoardSize(const cv::Size& a, const cv::Size& b) {
+  return a == b || (a.width == b.height && a.height == b.width);
+}
+
 struct CameraCalibrationOptions {
   BoardOptions board;
   // Fewest views with a detected board for a fit (OpenCV needs 3 to

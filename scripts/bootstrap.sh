@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev
   libfmt-dev libspdlog-dev libfast-float-dev
   libopencv-dev libapriltag-dev
+  libssl-dev           # SHA-256 of every input a report names (OpenSSL)
   libcairo2-dev        # softbench targets: the printable sheets (PDF, SVG)
   libpoppler-cpp-dev   # the tests rasterise those sheets to measure them
   opencv-doc           # the tests calibrate on its chessboard photos left*.jpg

@@ -9,6 +9,7 @@
 #include "calibration/camera_calibration.h"
 #include "pipelines/commands/common_flags.h"
 #include "pipelines/measurement/board_views.h"
+#include "pipelines/reports/calibration_report.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
 
@@ -38,25 +39,18 @@ void AddCalibrateCameraCommand(CLI::App* c,
 
 namespace {
 
-// A view whose error is this many times the median's is named as one to
-// drop (a blurred or misdetected board pulls the fit).
-constexpr double kOutlierViewFactor = 2.0;
-
 // Each view's RMS reprojection error, the views without a board, and the
 // views to consider dropping.
 std::string ViewErrorsTable(const BoardViews& views,
                             const CameraCalibration& c) {
+  const std::vector<std::string> outliers = OutlierViews(views, c);
   std::string table = "view  reprojection_error_px\n";
-  std::vector<double> sorted = c.view_errors_px;
-  std::sort(sorted.begin(), sorted.end());
-  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
-  std::vector<std::string> outliers;
   for (size_t v = 0; v < c.view_errors_px.size() && v < views.names.size();
        ++v) {
-    const bool outlier = c.view_errors_px[v] > kOutlierViewFactor * median;
+    const bool outlier = std::find(outliers.begin(), outliers.end(),
+                                   views.names[v]) != outliers.end();
     table += fmt::format("{}  {:.3f}{}\n", views.names[v], c.view_errors_px[v],
                          outlier ? "  <- far above the median" : "");
-    if (outlier) outliers.push_back(views.names[v]);
   }
   if (!views.missed.empty()) {
     table += fmt::format(
@@ -65,11 +59,16 @@ std::string ViewErrorsTable(const BoardViews& views,
   }
   if (!outliers.empty()) {
     table += fmt::format(
-        "consider removing {} (error over {:.0f}x the median {:.3f} px) and "
+        "consider removing {} (error over {:.0f}x the median view's) and "
         "calibrating again\n",
-        fmt::join(outliers, ", "), kOutlierViewFactor, median);
+        fmt::join(outliers, ", "), kOutlierViewFactor);
   }
   return table;
+}
+
+// The page beside the intrinsics file: camera.yaml -> camera.html.
+std::string PagePath(const std::string& output_path) {
+  return std::filesystem::path(output_path).replace_extension(".html").string();
 }
 
 }  // namespace
@@ -83,8 +82,10 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
     throw InputError("--board: " + *problem);
   if (!(options.every_s > 0.0)) throw InputError("--every-s: must be > 0");
   CheckOutputFile(options.output_path, "--out");
-  CheckOutputsSpareInputs({{"the views", options.source_path}},
-                          {{"--out", options.output_path}}, {});
+  const std::string page_path = PagePath(options.output_path);
+  CheckOutputsSpareInputs(
+      {{"the views", options.source_path}},
+      {{"--out", options.output_path}, {"the page", page_path}}, {});
   BoardViewsOptions view_options;
   view_options.board = calibration.board;
   view_options.every_s = options.every_s;
@@ -94,6 +95,22 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
   const BoardViews views = std::filesystem::is_directory(source, error)
                                ? BoardViewsFromImages(source, view_options)
                                : BoardViewsFromVideo(source, view_options);
+  if (const std::optional<cv::Size> printed = PrintedBoardSize(views);
+      printed && !SameBoardSize(*printed, {calibration.board.corners_x,
+                                           calibration.board.corners_y})) {
+    throw InputError(fmt::format(
+        "{}: the board in the views has {} x {} inner corners (counted in {} "
+        "of the first {} views), not the {} x {} of --board; give --board "
+        "{}x{}",
+        source, printed->width, printed->height,
+        std::count_if(
+            views.counted.begin(), views.counted.end(),
+            [&](const cv::Size& s) { return SameBoardSize(s, *printed); }),
+        std::min(views.looked_at, view_options.counted_views),
+        calibration.board.corners_x, calibration.board.corners_y,
+        std::max(printed->width, printed->height),
+        std::min(printed->width, printed->height)));
+  }
   const CameraCalibrationSummary summary =
       CalibrateCamera(views.corners, views.size, calibration);
   if (!summary.converged) {
@@ -101,18 +118,21 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
                                  views.looked_at, summary.why_not));
   }
   const CameraCalibration& c = summary.calibration;
+  const std::string page =
+      CalibrationReportHtml(views, c, calibration.board, source);
   WriteFileAtomically(options.output_path, CameraCalibrationToYaml(c));
+  WriteFileAtomically(page_path, page);
   out << ViewErrorsTable(views, c);
   out << fmt::format(
       "calibrated from {} of {} views of {}: fx {:.2f} fy {:.2f} cx {:.2f} "
       "cy {:.2f} px, k1 {:.5f} k2 {:.5f} p1 {:.6f} p2 {:.6f} k3 {:.5f}; "
-      "reprojection error {:.3f} px RMS; written to {}\n"
+      "reprojection error {:.3f} px RMS; written to {} (page: {})\n"
       "standard errors: fx {:.2f} fy {:.2f} cx {:.2f} cy {:.2f} px, k1 "
       "{:.5f} k2 {:.5f} p1 {:.6f} p2 {:.6f} k3 {:.5f}\n",
       c.views, views.looked_at, source, c.camera_matrix(0, 0),
       c.camera_matrix(1, 1), c.camera_matrix(0, 2), c.camera_matrix(1, 2),
       c.distortion[0], c.distortion[1], c.distortion[2], c.distortion[3],
-      c.distortion[4], c.reprojection_error_px, options.output_path,
+      c.distortion[4], c.reprojection_error_px, options.output_path, page_path,
       c.intrinsics_std_px[0], c.intrinsics_std_px[1], c.intrinsics_std_px[2],
       c.intrinsics_std_px[3], c.distortion_std[0], c.distortion_std[1],
       c.distortion_std[2], c.distortion_std[3], c.distortion_std[4]);

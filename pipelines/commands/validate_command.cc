@@ -31,6 +31,10 @@ TestPlan LoadValidationPlan(const ValidateCommandOptions& options,
                                        : options.constants_path,
         options.variant.value_or(std::string(VariantName(plan.force_model))),
         nullptr);
+    // The file the model came from, for the report's record of inputs.
+    if (!options.constants_path.empty()) {
+      plan.constants_path = options.constants_path;
+    }
   }
   if (!options.pressure_log_path.empty()) {
     *log = PressureLogTimes{

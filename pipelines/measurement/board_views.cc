@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 void AddView(const cv::Mat& gray, const std::string& where,
-             const std::string& name, const BoardOptions& board,
+             const std::string& name, const BoardViewsOptions& options,
              BoardViews* views) {
   if (views->size.empty()) views->size = gray.size();
   if (gray.size() != views->size) {
@@ -27,7 +27,12 @@ void AddView(const cv::Mat& gray, const std::string& where,
         where, gray.cols, gray.rows, views->size.width, views->size.height));
   }
   ++views->looked_at;
-  std::vector<cv::Point2f> corners = FindBoardCorners(gray, board);
+  if (views->looked_at <= options.counted_views) {
+    if (const std::optional<cv::Size> count = CountBoardCorners(gray)) {
+      views->counted.push_back(*count);
+    }
+  }
+  std::vector<cv::Point2f> corners = FindBoardCorners(gray, options.board);
   if (corners.empty()) {
     views->missed.push_back(name);
     return;
@@ -38,8 +43,21 @@ void AddView(const cv::Mat& gray, const std::string& where,
 
 }  // namespace
 
+std::optional<cv::Size> PrintedBoardSize(const BoardViews& views) {
+  for (const cv::Size& candidate : views.counted) {
+    const auto votes = std::count_if(
+        views.counted.begin(), views.counted.end(),
+        [&](const cv::Size& other) { return SameBoardSize(candidate, other); });
+    if (votes >= 2 && 2 * static_cast<size_t>(votes) > views.counted.size()) {
+      return candidate;
+    }
+  }
+  return std::nullopt;
+}
+
 std::optional<std::string> BoardViewsOptions::Check() const {
   if (!(every_s > 0.0)) return "every_s: must be > 0";
+  if (counted_views < 0) return "counted_views: must be >= 0";
   if (auto problem = board.Check()) return "board: " + *problem;
   return std::nullopt;
 }
@@ -60,7 +78,7 @@ BoardViews BoardViewsFromVideo(const std::string& video_path,
     if (frame.time_s + 1e-9 < next_s) continue;
     next_s = frame.time_s + options.every_s;
     AddView(frame.luma, fmt::format("{} at t = {:.3f} s", source, frame.time_s),
-            fmt::format("t = {:.3f} s", frame.time_s), options.board, &views);
+            fmt::format("t = {:.3f} s", frame.time_s), options, &views);
   }
   progress.Finish();
   return views;
@@ -90,8 +108,7 @@ BoardViews BoardViewsFromImages(const std::string& directory,
       throw InputError(file.string() +
                        ": not a readable image; remove it or re-export it");
     }
-    AddView(gray, file.string(), file.filename().string(), options.board,
-            &views);
+    AddView(gray, file.string(), file.filename().string(), options, &views);
   }
   return views;
 }

@@ -16,6 +16,10 @@ struct BoardViewsOptions {
   BoardOptions board;    // the board's inner corners and square size
   double every_s = 0.5;  // video: one view per this many seconds
   bool progress = true;  // a progress bar on stderr while reading a video
+  // The first this many views also have their board's own corners counted
+  // (CountBoardCorners), so a --board that does not match the print is
+  // refused with the count the print has.
+  int counted_views = 5;
 
   // The first bad field, named, and what it must be.
   std::optional<std::string> Check() const;
@@ -27,7 +31,14 @@ struct BoardViews {
   std::vector<std::string> missed;  // the views without the whole board
   cv::Size size;                    // every view's image size
   int looked_at = 0;                // views looked at, with a board or not
+  // Inner corners the first views' boards have, whatever --board says.
+  std::vector<cv::Size> counted;
 };
+
+// The board the views show: the inner-corner count found in more than half
+// of the counted views (and in two at least), either way round; nullopt when
+// the views do not agree.
+std::optional<cv::Size> PrintedBoardSize(const BoardViews& views);
 
 // Throws InputError when a view cannot be read or differs in size.
 BoardViews BoardViewsFromVideo(const std::string& video_path,

@@ -49,10 +49,10 @@ std::string EscapeSlashAfter(std::string text, std::string_view pattern) {
   return text;
 }
 
-constexpr const char* kStyle = R"(
+constexpr const char* kStyle = R"css(
 body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px;
        color: #222; line-height: 1.4; }
-h1 { font-size: 1.6em; } h2 { font-size: 1.25em; margin-top: 2em; }
+h1 { font-size: 1.6em; overflow-wrap: anywhere; } h2 { font-size: 1.25em; margin-top: 2em; }
 table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th { background: #f3f3f3; } td:first-child, th:first-child { text-align: left; }
@@ -60,7 +60,23 @@ th { background: #f3f3f3; } td:first-child, th:first-child { text-align: left; }
 .figures { display: flex; flex-wrap: wrap; gap: 0.8em; margin: 0.5em 0; }
 figure { margin: 0; } figcaption { font-size: 0.8em; max-width: 300px; }
 figure svg { width: 300px; height: auto; background: #000; }
-)";
+/* A phone: the page fits the screen; a wide table or chart scrolls inside
+   itself instead of widening the page. */
+@media (max-width: 700px) {
+  body { margin: 0.6em; font-size: 15px; }
+  table, .chart { display: block; overflow-x: auto; max-width: 100%; }
+  figure svg { width: 100%; }
+}
+/* Print: full width, no export menus, nothing split across pages, and each
+   link's file name written out. */
+@media print {
+  body { max-width: none; margin: 0; font-size: 10pt; }
+  .vega-embed details, .vega-actions { display: none !important; }
+  h2 { break-after: avoid; }
+  table, .chart, figure { break-inside: avoid; }
+  a[href]::after { content: " (" attr(href) ")"; font-size: 0.9em; }
+}
+)css";
 
 }  // namespace
 
@@ -83,6 +99,16 @@ void HtmlReport::AddParagraph(const std::string& text) {
 
 void HtmlReport::AddLink(const std::string& text, const std::string& href) {
   body_ += "<p><a href=\"" + Escape(href) + "\">" + Escape(text) + "</a></p>\n";
+}
+
+void HtmlReport::AddLinks(const std::string& label,
+                          const std::vector<std::string>& hrefs) {
+  body_ += "<p>" + Escape(label);
+  for (size_t i = 0; i < hrefs.size(); ++i) {
+    body_ += std::string(i == 0 ? " " : " · ") + "<a href=\"" +
+             Escape(hrefs[i]) + "\">" + Escape(hrefs[i]) + "</a>";
+  }
+  body_ += "</p>\n";
 }
 
 void HtmlReport::AddTable(const std::vector<std::string>& header,
@@ -141,7 +167,8 @@ std::string HtmlReport::Render() const {
   std::string embed;
   for (size_t i = 0; i < charts_.size(); ++i) {
     embed += fmt::format(
-        "<script>vegaEmbed('#chart{}', {}, {{actions: false, renderer: "
+        "<script>vegaEmbed('#chart{}', {}, {{actions: {{export: true, "
+        "source: false, compiled: false, editor: false}}, renderer: "
         "'svg'}});</script>\n",
         i,
         EscapeSlashAfter(
@@ -151,6 +178,8 @@ std::string HtmlReport::Render() const {
   }
   return fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, "
+      "initial-scale=1\">\n"
       "<title>{0}</title>\n<style>{1}</style>\n{2}</head>\n<body>\n"
       "<h1>{0}</h1>\n{3}{4}</body></html>\n",
       Escape(title_), kStyle, scripts, body_, embed);

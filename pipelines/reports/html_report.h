@@ -17,7 +17,9 @@ inline constexpr char kVegaLiteSchema[] =
 // A self-contained HTML report: headings, text, tables and Vega-Lite charts,
 // with Vega, Vega-Lite and vega-embed inlined from the npm packages that
 // scripts/bootstrap.sh installs (report/node_modules), so the page works
-// offline and the report directory can be mailed as is.
+// offline and the report directory can be mailed as is. Every chart has a
+// menu to save it as SVG or PNG (for a paper); the page reads on a phone's
+// width and prints without the menus.
 class HtmlReport {
  public:
   explicit HtmlReport(std::string title);
@@ -27,6 +29,9 @@ class HtmlReport {
   void AddParagraph(const std::string& text);
   // A line with a link (relative `href`, escaped).
   void AddLink(const std::string& text, const std::string& href);
+  // One line: `label` then a link to each relative `hrefs` (its name shown).
+  void AddLinks(const std::string& label,
+                const std::vector<std::string>& hrefs);
   void AddTable(const std::vector<std::string>& header,
                 const std::vector<std::vector<std::string>>& rows);
   // A Vega-Lite specification (data inlined in it).

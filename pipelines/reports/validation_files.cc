@@ -11,6 +11,7 @@
 #include "pipelines/reports/validation_report.h"
 #include "util/csv.h"
 #include "util/input_error.h"
+#include "util/version.h"
 
 namespace softbench {
 
@@ -42,7 +43,42 @@ std::string TrajectoryCsv(const TestPlan& plan,
   return csv;
 }
 
-std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
+namespace {
+
+// The cells every results.csv row ends with: version, pressure unit, and
+// each role's file name and SHA-256 (empty for a role not used).
+std::string ProvenanceHeader() {
+  std::string header = ",softbench_version,pressure_unit";
+  for (const char* role : kInputRoles) {
+    header += fmt::format(",{0}_file,{0}_sha256", role);
+  }
+  return header;
+}
+
+std::string ProvenanceCells(const VideoValidation& v) {
+  std::string cells =
+      "," + CsvField(SoftbenchVersion()) + "," + CsvField(v.plan.pressure_unit);
+  for (const char* role : kInputRoles) {
+    const auto file =
+        std::find_if(v.inputs.begin(), v.inputs.end(),
+                     [&](const InputFile& f) { return f.role == role; });
+    cells +=
+        file == v.inputs.end()
+            ? ",,"
+            : "," +
+                  CsvField(
+                      std::filesystem::path(file->path).filename().string()) +
+                  "," + file->sha256;
+  }
+  return cells;
+}
+
+}  // namespace
+
+std::string ResultsCsv(const VideoValidation& v) {
+  const TestPlan& plan = v.plan;
+  const ValidationResult& r = v.result;
+  const std::string provenance = ProvenanceCells(v);
   std::string csv = "test_id,head";
   for (int k = 1; k <= plan.mechanism.NumActuators(); ++k) {
     csv += fmt::format(",p{}_{}", k, plan.pressure_unit);
@@ -51,7 +87,9 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
       ",initial_y_mm,initial_z_mm,actuated_y_mm,actuated_z_mm,final_y_mm,"
       "final_z_mm,measured_dy_mm,measured_dz_mm,model_dy_mm,model_dz_mm,"
       "model_error_mm,baseline_dy_mm,baseline_dz_mm,baseline_error_mm,"
-      "hysteresis_mm,hysteresis_ok,in_range,status,reason\n";
+      "hysteresis_mm,hysteresis_ok,in_range,status,reason,uncertainty_mm,"
+      "frames_initial,frames_actuated,frames_final" +
+      ProvenanceHeader() + "\n";
   for (const TestScore& t : r.tests) {
     for (size_t h = 0; h < t.heads.size(); ++h) {
       const HeadScore& s = t.heads[h];
@@ -76,7 +114,13 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
              "," + scored(s.baseline_error_mm) + "," + scored(s.hysteresis_mm) +
              "," + (t.scored() ? (s.hysteresis_ok ? "1" : "0") : "") + "," +
              (t.outside_range.empty() ? "1" : "0") + "," + CsvField(t.status) +
-             "," + CsvField(t.reason) + "\n";
+             "," + CsvField(t.reason) + "," + scored(s.uncertainty_mm);
+      for (const WindowSummary& w : t.windows) {
+        csv +=
+            "," + (h < w.head_frames.size() ? std::to_string(w.head_frames[h])
+                                            : std::string());
+      }
+      csv += provenance + "\n";
     }
   }
   // Tests the plan says the bench skipped: their pressures, nothing measured.
@@ -85,19 +129,31 @@ std::string ResultsCsv(const TestPlan& plan, const ValidationResult& r) {
       csv += CsvField(t.id) + "," + CsvField(head.name);
       for (double p : t.pressures) csv += fmt::format(",{:g}", p);
       csv += std::string(17, ',') +  // 17 empty cells
-             ",skipped,skipped on the bench (the plan says so)\n";
+             ",skipped,skipped on the bench (the plan says so),,,," +
+             provenance + "\n";
     }
   }
   return csv;
 }
 
-json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
-                 const ValidationResult& r) {
+json SummaryJson(const VideoValidation& v) {
+  const TestPlan& plan = v.plan;
+  const VideoMeasurement& m = v.measurement;
+  const ValidationResult& r = v.result;
   json root;
+  root["softbench_version"] = SoftbenchVersion();
   root["video"] = m.video_path;
   root["plan"] = plan.path;
   root["mechanism"] = plan.mechanism.name;
   root["pressure_unit"] = plan.pressure_unit;
+  root["inputs"] = json::array();
+  for (const InputFile& file : v.inputs) {
+    root["inputs"].push_back(
+        {{"role", file.role},
+         {"file", std::filesystem::path(file.path).filename().string()},
+         {"path", file.path},
+         {"sha256", file.sha256}});
+  }
   root["model"] = r.model_name;
   root["times_source"] = r.times_source;
   root["baseline"] = r.baseline_name;
@@ -179,13 +235,11 @@ void WriteValidationFiles(const VideoValidation& v,
                      error.message() + ")");
   }
   WriteFileAtomically((directory / "report.html").string(),
-                      ValidationReportHtml(v.plan, v.measurement, v.result));
-  WriteFileAtomically((directory / "results.csv").string(),
-                      ResultsCsv(v.plan, v.result));
+                      ValidationReportHtml(v));
+  WriteFileAtomically((directory / "results.csv").string(), ResultsCsv(v));
   WriteFileAtomically(
       (directory / "summary.json").string(),
-      SummaryJson(v.plan, v.measurement, v.result)
-              .dump(2, ' ', false, json::error_handler_t::replace) +
+      SummaryJson(v).dump(2, ' ', false, json::error_handler_t::replace) +
           "\n");
   WriteFileAtomically((directory / "trajectory.csv").string(),
                       TrajectoryCsv(v.plan, v.measurement));

@@ -16,12 +16,13 @@ namespace softbench {
 std::string TrajectoryCsv(const TestPlan& plan,
                           const VideoMeasurement& measurement);
 
-// results.csv of a validation (docs/file-formats.md).
-std::string ResultsCsv(const TestPlan& plan, const ValidationResult& result);
+// results.csv of a validation (docs/file-formats.md): one row per test and
+// head, each ending with the softbench version, the pressure unit and every
+// input's file name and SHA-256, so a row copied elsewhere keeps its origin.
+std::string ResultsCsv(const VideoValidation& v);
 
 // summary.json of a validation (docs/file-formats.md).
-nlohmann::json SummaryJson(const TestPlan& plan, const VideoMeasurement& m,
-                           const ValidationResult& r);
+nlohmann::json SummaryJson(const VideoValidation& v);
 
 // The four report files of one video (report.html, results.csv,
 // summary.json, trajectory.csv) into `directory`, each atomically.

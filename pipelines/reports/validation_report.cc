@@ -10,12 +10,31 @@
 
 #include "pipelines/measurement/snapshots.h"
 #include "pipelines/reports/html_report.h"
+#include "util/version.h"
 #include "vision/image_data_uri.h"
 
 namespace softbench {
 namespace {
 
 using nlohmann::json;
+
+// Domains for y and z of the same length (the larger extent of the two, with
+// a margin), each centred on its data: drawn in a square, equal axes.
+std::pair<json, json> EqualDomains(const json& values) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(INFINITY);
+  Eigen::Vector2d high = Eigen::Vector2d::Constant(-INFINITY);
+  for (const json& v : values) {
+    const Eigen::Vector2d p(v["y"].get<double>(), v["z"].get<double>());
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  if (!low.allFinite()) return {json::array({-1, 1}), json::array({-1, 1})};
+  const double half =
+      std::max(0.55 * (high - low).maxCoeff(), 0.01);  // 10 % margin
+  const Eigen::Vector2d centre = (low + high) / 2.0;
+  return {json::array({centre.x() - half, centre.x() + half}),
+          json::array({centre.y() - half, centre.y() + half})};
+}
 
 // Fig. 4.8 / 4.16: measured and predicted displacements per test, with lines
 // from each measurement to its predictions.
@@ -47,17 +66,26 @@ json PositionChart(const TestPlan& plan, const ValidationResult& r) {
       point("error line", s.baseline_mm, t.id + "/baseline");
     }
   }
-  const json x = {
-      {"field", "y"}, {"type", "quantitative"}, {"title", "y [mm]"}};
-  const json y = {
-      {"field", "z"}, {"type", "quantitative"}, {"title", "z [mm]"}};
+  // Equal axes: a square plot whose two domains span the same millimetres,
+  // so a circle of positions stays a circle.
+  const auto [y_domain, z_domain] = EqualDomains(values);
+  const json x = {{"field", "y"},
+                  {"type", "quantitative"},
+                  {"scale", {{"domain", y_domain}, {"nice", false}}},
+                  {"title", "y [mm]"}};
+  const json y = {{"field", "z"},
+                  {"type", "quantitative"},
+                  {"scale", {{"domain", z_domain}, {"nice", false}}},
+                  {"title", "z [mm]"}};
   return {
       {"$schema", kVegaLiteSchema},
-      {"title", "Measured and predicted displacements (figs. 4.8, 4.16)"},
+      {"title",
+       "Measured and predicted displacements (figs. 4.8, 4.16), "
+       "equal axes"},
       {"data", {{"values", values}}},
       {"facet", {{"field", "head"}, {"type", "nominal"}}},
       {"spec",
-       {{"width", 420},
+       {{"width", 380},
         {"height", 380},
         {"layer",
          {{{"transform", {{{"filter", "datum.series == 'error line'"}}}},
@@ -347,15 +375,35 @@ void AddSummary(const TestPlan& plan, const ValidationResult& r,
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     const ErrorStatistics& a = r.model_errors[h];
     const ErrorStatistics& b = r.baseline_errors[h];
+    std::vector<double> uncertainties;
+    for (const TestScore& t : r.tests) {
+      if (t.scored()) uncertainties.push_back(t.heads[h].uncertainty_mm);
+    }
     rows.push_back({plan.mechanism.heads[h].name, std::to_string(a.tests),
                     FormatMm(a.mean_mm), FormatMm(a.max_mm), FormatMm(a.rms_mm),
                     FormatMm(b.mean_mm), FormatMm(b.max_mm), FormatMm(b.rms_mm),
-                    fmt::format("{:.0f} %", r.improvement_percent[h])});
+                    fmt::format("{:.0f} %", r.improvement_percent[h]),
+                    uncertainties.empty()
+                        ? std::string()
+                        : FormatMm(*std::max_element(uncertainties.begin(),
+                                                     uncertainties.end()))});
   }
-  report->AddTable(
-      {"head", "tests", "model mean [mm]", "model max", "model RMS",
-       "baseline mean", "baseline max", "baseline RMS", "improvement"},
-      rows);
+  report->AddTable({"head", "tests", "model mean [mm]", "model max",
+                    "model RMS", "baseline mean", "baseline max",
+                    "baseline RMS", "improvement", "largest uncertainty [mm]"},
+                   rows);
+  report->AddParagraph(
+      "Uncertainty: the standard uncertainty of a measured displacement from "
+      "its windows' own scatter (each window median's standard error, "
+      "1.2533 x spread / sqrt(frames), initial and actuated in quadrature). "
+      "It is a floor: frames within a window share slow errors.");
+}
+
+// "p1 p2 p3" as the plan gives them.
+std::string Pressures(const Eigen::VectorXd& pressures) {
+  std::vector<std::string> values;
+  for (double p : pressures) values.push_back(fmt::format("{:g}", p));
+  return fmt::format("{}", fmt::join(values, "  "));
 }
 
 void AddTestTable(const TestPlan& plan, const ValidationResult& r,
@@ -365,21 +413,30 @@ void AddTestTable(const TestPlan& plan, const ValidationResult& r,
   for (const TestScore& t : r.tests) {
     for (size_t h = 0; h < t.heads.size(); ++h) {
       const HeadScore& s = t.heads[h];
-      rows.push_back({t.id, plan.mechanism.heads[h].name,
-                      FormatMm(s.measured_mm.x()), FormatMm(s.measured_mm.y()),
+      std::vector<std::string> frames;
+      for (const WindowSummary& w : t.windows) {
+        frames.push_back(h < w.head_frames.size()
+                             ? std::to_string(w.head_frames[h])
+                             : std::string("-"));
+      }
+      rows.push_back({t.id, Pressures(t.pressures),
+                      plan.mechanism.heads[h].name, FormatMm(s.measured_mm.x()),
+                      FormatMm(s.measured_mm.y()), FormatMm(s.uncertainty_mm),
+                      fmt::format("{}", fmt::join(frames, " / ")),
                       FormatMm(s.model_error_mm), FormatMm(s.baseline_error_mm),
                       FormatMm(s.hysteresis_mm),
                       t.status + (t.reason.empty() ? "" : ": " + t.reason)});
     }
   }
   for (const PlanTest& t : plan.skipped_tests) {
-    rows.push_back(
-        {t.id, "", "", "", "", "", "", "skipped (as the plan says)"});
+    rows.push_back({t.id, Pressures(t.pressures), "", "", "", "", "", "", "",
+                    "", "skipped (as the plan says)"});
   }
-  report->AddTable(
-      {"test", "head", "measured dy [mm]", "measured dz [mm]",
-       "model error [mm]", "baseline error [mm]", "hysteresis [mm]", "status"},
-      rows);
+  report->AddTable({"test", "pressures [" + plan.pressure_unit + "]", "head",
+                    "measured dy [mm]", "measured dz [mm]", "uncertainty [mm]",
+                    "frames initial / actuated / final", "model error [mm]",
+                    "baseline error [mm]", "hysteresis [mm]", "status"},
+                   rows);
 }
 
 void AddRepeats(const TestPlan& plan, const ValidationResult& r,
@@ -434,12 +491,28 @@ void AddCalibration(const TestPlan& plan, const VideoMeasurement& m,
        {"same-colour blobs rejected", std::to_string(m.rejected_blobs)}});
 }
 
+// What the report was made from: softbench's version and every input file
+// with its SHA-256.
+void AddInputs(const VideoValidation& v, HtmlReport* report) {
+  report->AddHeading("Inputs");
+  report->AddParagraph(fmt::format("softbench {}; pressures in {}.",
+                                   SoftbenchVersion(), v.plan.pressure_unit));
+  std::vector<std::vector<std::string>> rows;
+  for (const InputFile& file : v.inputs) {
+    rows.push_back({file.role, file.path, file.sha256});
+  }
+  report->AddTable({"input", "file", "SHA-256"}, rows);
+}
+
 }  // namespace
 
-std::string ValidationReportHtml(const TestPlan& plan,
-                                 const VideoMeasurement& m,
-                                 const ValidationResult& r) {
+std::string ValidationReportHtml(const VideoValidation& v) {
+  const TestPlan& plan = v.plan;
+  const VideoMeasurement& m = v.measurement;
+  const ValidationResult& r = v.result;
   HtmlReport report("Validation: " + m.video_path);
+  report.AddLinks("Files beside this page:",
+                  {std::begin(kValidationFiles), std::end(kValidationFiles)});
   report.AddParagraph(fmt::format(
       "{} mechanism, plan {}, {} test points (times from {}); model {} "
       "against the baseline {}.",
@@ -465,6 +538,7 @@ std::string ValidationReportHtml(const TestPlan& plan,
       r.hysteresis_cause));
   AddRepeats(plan, r, &report);
   AddCalibration(plan, m, &report);
+  AddInputs(v, &report);
   return report.Render();
 }
 

@@ -3,21 +3,24 @@
 
 #include <string>
 
-#include "pipelines/formats/test_plan.h"
-#include "pipelines/measurement/video_measurement.h"
-#include "pipelines/validation/validation.h"
+#include "pipelines/validation/validate_video.h"
 
 namespace softbench {
 
 // Millimetres as the report files write them (4 decimals; empty for NaN).
 std::string FormatMm(double value);
 
-// report.html of one video: the summary, figs. 4.8/4.9 (4.16/4.17), the
-// trajectories with the windows shaded, annotated crops of each test's
-// windows, the test, hysteresis and repeat tables and the calibration.
-std::string ValidationReportHtml(const TestPlan& plan,
-                                 const VideoMeasurement& measurement,
-                                 const ValidationResult& result);
+// The files written beside report.html, which it links to.
+inline constexpr const char* kValidationFiles[] = {
+    "results.csv", "summary.json", "trajectory.csv"};
+
+// report.html of one video: links to the files beside it, the summary with
+// each head's uncertainty, figs. 4.8/4.9 (4.16/4.17) with equal axes where
+// positions are drawn, the trajectories with the windows shaded, annotated
+// crops of each test's windows, the test table (pressures and unit,
+// uncertainty and frames), hysteresis and repeat tables, the calibration and
+// the inputs with their SHA-256.
+std::string ValidationReportHtml(const VideoValidation& validation);
 
 }  // namespace softbench
 

@@ -2,8 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <future>
+#include <iterator>
+
 #include "pipelines/measurement/snapshots.h"
 #include "util/check.h"
+#include "util/file_digest.h"
 #include "util/input_error.h"
 #include "vision/video_reader.h"
 
@@ -69,6 +73,23 @@ std::string TimesFromVideo(const VideoMeasurement& m,
       log->path, alignment.offset_s, alignment.spread_s);
 }
 
+// The files behind a validation, by role, without their digests yet.
+std::vector<InputFile> InputFiles(const TestPlan& plan,
+                                  const std::string& video_path,
+                                  const std::optional<PressureLogTimes>& log) {
+  const std::string paths[] = {video_path,
+                               plan.path,
+                               plan.mechanism_path,
+                               plan.constants_path,
+                               log ? log->path : std::string(),
+                               plan.calibration.intrinsics_path};
+  std::vector<InputFile> files;
+  for (size_t i = 0; i < std::size(kInputRoles); ++i) {
+    if (!paths[i].empty()) files.push_back({kInputRoles[i], paths[i], ""});
+  }
+  return files;
+}
+
 }  // namespace
 
 std::optional<std::string> VideoValidationOptions::Check() const {
@@ -91,6 +112,15 @@ VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
         plan.path));
   }
   if (times_known) CheckWindowsFitTheTimes(plan);
+  // The record of the inputs, hashed on a thread of its own while the
+  // video is read (a gigabyte takes about a second).
+  std::future<std::vector<InputFile>> inputs =
+      std::async(std::launch::async,
+                 [files = InputFiles(plan, video_path, log)]() mutable {
+                   for (InputFile& file : files)
+                     file.sha256 = Sha256OfFile(file.path);
+                   return files;
+                 });
   VideoReader reader(video_path,
                      MeasurementReaderOptions(!options.windows_only));
   VideoMeasurement m = MeasureVideo(
@@ -105,7 +135,7 @@ VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
     CaptureSnapshots(plan, WindowMiddles(PlanWindows(plan, m.last_frame_s)),
                      &reader, &m);
   }
-  return {std::move(plan), std::move(m), std::move(result)};
+  return {std::move(plan), std::move(m), std::move(result), inputs.get()};
 }
 
 }  // namespace softbench

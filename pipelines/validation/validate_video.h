@@ -39,11 +39,26 @@ struct PressureLogTimes {
   std::vector<PressureHold> holds;  // PlanPressureHolds
 };
 
+// One file a validation read, for the record (summary.json, results.csv).
+struct InputFile {
+  std::string role;    // one of kInputRoles
+  std::string path;    // as given
+  std::string sha256;  // 64 lowercase hex digits
+};
+
+// Every kind of file a validation can read, in the order reports list them.
+inline constexpr const char* kInputRoles[] = {
+    "video", "plan", "mechanism", "constants", "pressure_log", "intrinsics"};
+
 // One video's measurement and scores, with the plan's times as used.
 struct VideoValidation {
   TestPlan plan;
   VideoMeasurement measurement;
   ValidationResult result;
+  // The files this validation read (a built-in mechanism or the thesis's
+  // constants are no file and not listed), hashed while the video is
+  // measured.
+  std::vector<InputFile> inputs;
 };
 
 // Validates the video at `video_path`, opened once for all of it. With a

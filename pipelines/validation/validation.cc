@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "model/equilibrium.h"
 #include "pipelines/validation/plan_consistency.h"
@@ -297,6 +298,14 @@ void SummariseWindows(const TestPlan& plan, const VideoMeasurement& measurement,
   }
 }
 
+// The variance [mm^2] of a window's median position of head `h`, summed over
+// both axes: a median of n samples has about pi/2 times the variance of a
+// mean, so its standard error is 1.2533 x spread / sqrt(n).
+double MedianVariance(const WindowSummary& window, int h) {
+  const double n = std::max(1, window.head_frames[h]);
+  return (std::numbers::pi / 2.0) * window.spread_mm[h].squaredNorm() / n;
+}
+
 // Each head's measured displacement (actuated - initial) against the model
 // and the baseline at the test's pressures, and its hysteresis (|final -
 // initial|, thesis 4.1.3).
@@ -324,6 +333,9 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
         (score->windows[kFinalWindow].median_mm[h] - initial).norm();
     head.hysteresis_ok = head.hysteresis_mm <= plan.hysteresis_tolerance_mm;
     hysteresis_ok &= head.hysteresis_ok;
+    head.uncertainty_mm =
+        std::sqrt(MedianVariance(score->windows[kInitialWindow], h) +
+                  MedianVariance(score->windows[kActuatedWindow], h));
   }
   score->status = !score->measured ? "not measured"
                   : hysteresis_ok  ? "ok"

@@ -78,6 +78,11 @@ struct HeadScore {
   double baseline_error_mm = NAN;
   double hysteresis_mm = NAN;  // |final - initial|
   bool hysteresis_ok = false;
+  // Standard uncertainty of measured_mm [mm] from the windows' own scatter:
+  // each window median's standard error (1.2533 x spread / sqrt(frames),
+  // per axis) for actuated and initial, in quadrature over both axes. A
+  // floor: frames within a window share slow errors (codec, drift).
+  double uncertainty_mm = NAN;
 };
 
 struct TestScore {

@@ -77,17 +77,97 @@ TEST_F(CalibrateCameraCommandTest,
   }
   EXPECT_EQ(fitted.camera_matrix(0, 0), c.camera_matrix(0, 0));
 
-  options.board = "7x5";  // the wrong board: too few views
+  options.board = "7x5";  // the wrong board: refused with the print's
   options.output_path = Path("camera_wrong.yaml");
   try {
     RunCalibrateCamera(options, out);
-    FAIL() << "calibrated without boards";
+    FAIL() << "calibrated with the wrong board";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("fewer than 5; film it"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("give --board 9x6"), std::string::npos)
         << e.what();
   }
   EXPECT_FALSE(fs::exists(options.output_path));
+}
+
+// OpenCV's own sample photos (Debian's opencv-doc): 13 views of a 9 x 6
+// board through a real, distorting lens, as OpenCV's calibration sample
+// calibrates them (left_intrinsics.yml beside them).
+class SampleChessboardPhotosTest : public ScratchDirectoryTest {
+ protected:
+  void SetUp() override {
+    ScratchDirectoryTest::SetUp();
+    const fs::path data = "/usr/share/doc/opencv-doc/examples/data";
+    ASSERT_TRUE(fs::exists(data / "left01.jpg"))
+        << "install opencv-doc (scripts/bootstrap.sh does)";
+    fs::create_directories(Path("left"));
+    for (const auto& entry : fs::directory_iterator(data)) {
+      const std::string name = entry.path().filename().string();
+      if (name.size() == 10 && name.rfind("left", 0) == 0 &&
+          entry.path().extension() == ".jpg") {
+        fs::copy_file(entry.path(), Path("left/" + name));
+      }
+    }
+  }
+};
+
+TEST_F(SampleChessboardPhotosTest, GivesEveryViewsErrorAndThePage) {
+  CalibrateCameraCommandOptions options;
+  options.source_path = Path("left");
+  options.board = "9x6";
+  options.square_mm = 25.0;
+  options.fit_k3 = true;  // as OpenCV's sample does for this lens
+  options.output_path = Path("camera.yaml");
+  std::ostringstream out;
+  ASSERT_EQ(RunCalibrateCamera(options, out), 0);
+  const std::string said = out.str();
+  for (const char* view :
+       {"left01.jpg  0.", "left09.jpg  0.", "left14.jpg  0."}) {
+    EXPECT_NE(said.find(view), std::string::npos) << view << "\n" << said;
+  }
+  EXPECT_NE(said.find("calibrated from 13 of 13 views"), std::string::npos)
+      << said;
+  const CameraCalibration c = LoadCameraCalibration(options.output_path);
+  // OpenCV's sample found fx = fy = 535.9 px, centre (342.3, 235.6) px.
+  EXPECT_NEAR(c.camera_matrix(0, 0), 535.9, 0.02 * 535.9);
+  EXPECT_NEAR(c.camera_matrix(1, 1), 535.9, 0.02 * 535.9);
+  EXPECT_NEAR(c.camera_matrix(0, 2), 342.3, 10.0);
+  EXPECT_NEAR(c.camera_matrix(1, 2), 235.6, 10.0);
+  EXPECT_LT(c.reprojection_error_px, 0.5);
+  // The page: intrinsics with their standard errors, the per-view chart and
+  // the coverage chart, drawn in Chromium without a console message.
+  const std::string page = Read(Path("camera.html"));
+  EXPECT_NE(page.find("<td>fx</td>"), std::string::npos);
+  EXPECT_NE(page.find("Reprojection error per view"), std::string::npos);
+  EXPECT_NE(page.find("Coverage of the image"), std::string::npos);
+  EXPECT_NE(page.find("left13.jpg"), std::string::npos);
+  EXPECT_EQ(std::system(("bash " SOFTBENCH_SOURCE_DIR
+                         "/report/check_in_chromium.sh " +
+                         Path("camera.html") + " >/dev/null")
+                            .c_str()),
+            0);
+}
+
+TEST_F(SampleChessboardPhotosTest, RefusesABoardThePrintDoesNotHave) {
+  for (const char* board : {"8x6", "9x5", "10x7"}) {
+    CalibrateCameraCommandOptions options;
+    options.source_path = Path("left");
+    options.board = board;
+    options.square_mm = 25.0;
+    options.output_path = Path("camera.yaml");
+    std::ostringstream out;
+    try {
+      RunCalibrateCamera(options, out);
+      ADD_FAILURE() << board << " accepted";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("give --board 9x6"), std::string::npos) << message;
+      EXPECT_NE(message.find(std::string("not the ") + board[0]),
+                std::string::npos)
+          << message;
+    }
+    EXPECT_FALSE(fs::exists(options.output_path));
+    EXPECT_FALSE(fs::exists(Path("camera.html")));
+  }
 }
 
 }  // namespace

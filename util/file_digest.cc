@@ -1,0 +1,49 @@
+#include "util/file_digest.h"
+
+#include <fmt/format.h>
+#include <openssl/evp.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <vector>
+
+#include "util/check.h"
+#include "util/input_error.h"
+
+namespace softbench {
+
+std::string Sha256OfFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    throw InputError(
+        fmt::format("{}: cannot open it to record its SHA-256 ({})", path,
+                    std::strerror(errno)));
+  }
+  const std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> context(
+      EVP_MD_CTX_new(), &EVP_MD_CTX_free);
+  SOFTBENCH_CHECK(context != nullptr &&
+                  EVP_DigestInit_ex(context.get(), EVP_sha256(), nullptr) == 1)
+      << "OpenSSL's SHA-256 is unavailable";
+  std::vector<char> block(size_t{1} << 20);
+  while (file) {
+    file.read(block.data(), static_cast<std::streamsize>(block.size()));
+    if (file.gcount() > 0) {
+      EVP_DigestUpdate(context.get(), block.data(),
+                       static_cast<size_t>(file.gcount()));
+    }
+  }
+  if (file.bad()) {
+    throw InputError(path + ": read error while computing its SHA-256");
+  }
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  EVP_DigestFinal_ex(context.get(), digest, &length);
+  std::string hex;
+  for (unsigned int i = 0; i < length; ++i)
+    hex += fmt::format("{:02x}", digest[i]);
+  return hex;
+}
+
+}  // namespace softbench
