@@ -10,6 +10,8 @@ namespace softbench {
 // self-contained HTML page. Lives in vision/ because its base64 is FFmpeg's,
 // and FFmpeg stays behind vision/'s walls.
 std::string JpegDataUri(const cv::Mat& bgr, int quality);
+// The same, lossless (PNG): for a page that reads the pixels' colours back.
+std::string PngDataUri(const cv::Mat& bgr);
 
 }  // namespace softbench
 

@@ -7,12 +7,13 @@
 
 namespace softbench {
 
-// `softbench tune`: one frame's colour segmentation made visible, and HSV
-// bounds learned from its dots (replaces MATLAB's Color Thresholder app).
+// `softbench tune`: one frame's (or photo's) colour segmentation made
+// visible, HSV bounds learned from its dots, and a page with sliders to set
+// them by eye (replaces MATLAB's Color Thresholder app).
 struct TuneCommandOptions {
-  std::string video_path;
+  std::string source_path;  // a video, or a photo (PNG, JPEG)
   double at_s = 0.0;
-  std::string color = "red";
+  std::string color = "red";   // one or more, comma-separated
   std::string hsv;             // "h_lo,h_hi,s_lo,s_hi,v_lo,v_hi" to try
   double dot_radius_px = 0.0;  // 0: estimated from the blobs
   std::string output_dir = ".";

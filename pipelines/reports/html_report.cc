@@ -80,6 +80,8 @@ figure svg { width: 300px; height: auto; background: #000; }
 
 }  // namespace
 
+std::string HtmlEscape(const std::string& text) { return Escape(text); }
+
 std::string ReportAssetsDirectory() {
   if (const char* assets = std::getenv("SOFTBENCH_REPORT_ASSETS")) {
     return assets;

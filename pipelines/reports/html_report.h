@@ -54,6 +54,9 @@ class HtmlReport {
   std::vector<nlohmann::json> charts_;
 };
 
+// `text` made safe as HTML text or an attribute value.
+std::string HtmlEscape(const std::string& text);
+
 // A number for a report's JSON: NaN and inf (not representable) become null.
 inline nlohmann::json JsonNumber(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json();

@@ -190,16 +190,16 @@ TEST_F(TrackCommandTest, ScalesWithoutATagAgree) {
 
 TEST_F(TrackCommandTest, TuneWritesImagesAndARangeThatHoldsTheDots) {
   TuneCommandOptions options;
-  options.video_path = Path("clip.mp4");
+  options.source_path = Path("clip.mp4");
   options.at_s = 0.5;
   options.output_dir = Path("tune");
   std::ostringstream out;
   ASSERT_EQ(RunTune(options, out), 0);
   EXPECT_NE(out.str().find("red: 3 dots"), std::string::npos) << out.str();
-  for (const char* kind : {"frame", "mask", "overlay"}) {
-    const std::string png =
-        Path(std::string("tune/tune_red_0.50s_") + kind + ".png");
-    EXPECT_FALSE(cv::imread(png).empty()) << png;
+  for (const char* png :
+       {"tune/tune_0.50s_frame.png", "tune/tune_red_0.50s_mask.png",
+        "tune/tune_red_0.50s_overlay.png"}) {
+    EXPECT_FALSE(cv::imread(Path(png)).empty()) << png;
   }
   // The suggested range is printed ready to paste, and covers every dot
   // pixel with nothing else inside.
@@ -214,7 +214,7 @@ TEST_F(TrackCommandTest, TuneWritesImagesAndARangeThatHoldsTheDots) {
 // built-in range, and its pictures are upright.
 TEST_F(TrackCommandTest, TuneFindsTheDotsOnHdrPortraitFootage) {
   TuneCommandOptions options;
-  options.video_path =
+  options.source_path =
       std::string(SOFTBENCH_SOURCE_DIR) + "/samples/phone/phone.mp4";
   options.at_s = 0.5;
   options.output_dir = Path("tune");
@@ -233,9 +233,116 @@ TEST_F(TrackCommandTest, TuneFindsTheDotsOnHdrPortraitFootage) {
   EXPECT_EQ(frame.rows, 1920);
 }
 
+// The page's DOM once its script has run in headless Chromium, opened at
+// `fragment` (which moves sliders as a person would).
+std::string TunePageDom(const std::string& page, const std::string& fragment) {
+  const std::string dom = page + ".dom";
+  const std::string command =
+      "chromium --headless --no-sandbox --disable-gpu --no-first-run "
+      "--disable-background-networking --user-data-dir=" +
+      page + ".profile --virtual-time-budget=20000 --dump-dom 'file://" + page +
+      fragment + "' > " + dom + " 2>/dev/null";
+  EXPECT_EQ(std::system(command.c_str()), 0);
+  std::ifstream stream(dom);
+  std::stringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+// The text of the element with `id` in a dumped DOM.
+std::string ElementText(const std::string& dom, const std::string& id) {
+  const std::string open = "id=\"" + id + "\">";
+  const size_t start = dom.find(open);
+  if (start == std::string::npos) return "(no " + id + ")";
+  const size_t from = start + open.size();
+  return dom.substr(from, dom.find('<', from) - from);
+}
+
+TEST_F(TrackCommandTest, TunePageSlidersMoveTheMaskAndItsYamlFindsTheDots) {
+  TuneCommandOptions options;
+  options.source_path = Path("clip.mp4");
+  options.at_s = 0.5;
+  options.color = "red,green";
+  options.output_dir = Path("tune_page");
+  std::ostringstream out;
+  ASSERT_EQ(RunTune(options, out), 0);
+  // The clip has red dots only: green is reported absent, not found.
+  EXPECT_NE(out.str().find("green: absent"), std::string::npos) << out.str();
+  const std::string page = Path("tune_page/tune.html");
+  const std::string as_written = TunePageDom(page, "");
+  EXPECT_EQ(ElementText(as_written, "dots-red"), "3");
+  EXPECT_EQ(ElementText(as_written, "dots-green"), "0");
+  EXPECT_EQ(ElementText(as_written, "status-green").rfind("absent", 0), 0u);
+  const std::string yaml = ElementText(as_written, "yaml");
+  const size_t red = yaml.find("{color: red, hsv: [");
+  ASSERT_NE(red, std::string::npos) << yaml;
+  const size_t open = yaml.find('[', red);
+  const std::string hsv =
+      yaml.substr(open, yaml.find(']', open) - open + 1);  // "[...]"
+  // Sliders moved to a hue no dot has: the mask empties, the YAML follows.
+  const std::string moved = TunePageDom(page, "#red=90,100,0,255,0,255");
+  EXPECT_EQ(ElementText(moved, "dots-red"), "0");
+  EXPECT_LT(std::stoi(ElementText(moved, "pixels-red")),
+            std::stoi(ElementText(as_written, "pixels-red")));
+  EXPECT_NE(ElementText(moved, "yaml")
+                .find("{color: red, hsv: [90, 100, 0, 255, 0, 255]}"),
+            std::string::npos)
+      << ElementText(moved, "yaml");
+  // The page's YAML pasted into the plan: track finds every dot in every
+  // frame with it.
+  TrackCommandOptions track;
+  track.plan_path = WritePlan(
+      "tuned.yaml", std::string(kPlan) +
+                        "markers:\n  - {head: head, color: red, hsv: " + hsv +
+                        "}\n");
+  track.video_path = Path("clip.mp4");
+  track.output_path = Path("tuned.csv");
+  track.quiet = true;
+  ASSERT_EQ(RunTrack(track, out), 0) << hsv;
+  std::ifstream csv(track.output_path);
+  std::string line;
+  std::getline(csv, line);
+  int rows = 0, complete = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    complete += line.find(",3,3,") != std::string::npos;
+  }
+  EXPECT_GT(rows, 100);
+  EXPECT_EQ(complete, rows) << hsv;
+}
+
+TEST_F(TrackCommandTest, TuneTakesAPhotoAndRefusesHeic) {
+  // A photo of the bench: the clip's frame saved as JPEG.
+  TuneCommandOptions options;
+  options.source_path = Path("clip.mp4");
+  options.at_s = 0.5;
+  options.output_dir = Path("tune_photo_source");
+  std::ostringstream out;
+  ASSERT_EQ(RunTune(options, out), 0);
+  const cv::Mat frame =
+      cv::imread(Path("tune_photo_source/tune_0.50s_frame.png"));
+  cv::imwrite(Path("bench.jpg"), frame, {cv::IMWRITE_JPEG_QUALITY, 92});
+  options.source_path = Path("bench.jpg");
+  options.output_dir = Path("tune_photo");
+  std::ostringstream photo;
+  ASSERT_EQ(RunTune(options, photo), 0);
+  EXPECT_NE(photo.str().find("red: 3 dots"), std::string::npos) << photo.str();
+  EXPECT_TRUE(fs::exists(Path("tune_photo/tune.html")));
+  options.source_path = Path("bench.HEIC");
+  std::ofstream(options.source_path) << "not really";
+  try {
+    RunTune(options, photo);
+    FAIL() << "accepted HEIC";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("export it as JPEG"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(TrackCommandTest, TuneRejectsAnUnknownColour) {
   TuneCommandOptions options;
-  options.video_path = Path("clip.mp4");
+  options.source_path = Path("clip.mp4");
   options.color = "purple";
   std::ostringstream out;
   try {
