@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -32,6 +33,68 @@ LearnedHsvRange LearnFromDots(const cv::Mat& bgr, const cv::Mat& mask,
   return LearnHsvRange(bgr, cores, regions);
 }
 
+// Circular (mod 180) difference of two OpenCV hues, in -90..90.
+double HueDifference(double a, double b) {
+  double d = std::fmod(a - b, 180.0);
+  if (d > 90.0) d -= 180.0;
+  if (d < -90.0) d += 180.0;
+  return d;
+}
+
+// A blob's hue: the saturation-weighted circular mean over its core.
+double BlobHue(const cv::Mat& hsv, const Blob& blob, double radius) {
+  cv::Mat core = cv::Mat::zeros(hsv.size(), CV_8UC1);
+  cv::circle(core, Pixel(blob.centroid),
+             std::max(1, static_cast<int>(0.7 * radius)), 255, cv::FILLED);
+  double sum_cos = 0.0, sum_sin = 0.0;
+  const cv::Rect box = blob.box & cv::Rect(0, 0, hsv.cols, hsv.rows);
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      if (core.at<uint8_t>(y, x) == 0) continue;
+      const cv::Vec3b p = hsv.at<cv::Vec3b>(y, x);
+      const double angle = p[0] * std::numbers::pi / 90.0;
+      sum_cos += std::cos(angle) * p[1];
+      sum_sin += std::sin(angle) * p[1];
+    }
+  }
+  const double hue = std::atan2(sum_sin, sum_cos) * 90.0 / std::numbers::pi;
+  return hue < 0.0 ? hue + 180.0 : hue;
+}
+
+// Splits the accepted blobs by hue: those within max_hue_difference of the
+// blob nearest the range's centre stay dots, the others are another colour.
+void SplitByHue(const cv::Mat& bgr, const HsvRange& range, double radius,
+                double max_difference, ColorTuning* tuning) {
+  std::vector<Blob>& blobs = tuning->blobs.accepted;
+  if (blobs.size() < 2) return;
+  cv::Mat hsv;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  const double centre = std::fmod(
+      range.hue_low + (range.Wraps() ? range.hue_high + 180 - range.hue_low
+                                     : range.hue_high - range.hue_low) /
+                          2.0,
+      180.0);
+  std::vector<double> hues;
+  for (const Blob& blob : blobs) hues.push_back(BlobHue(hsv, blob, radius));
+  size_t nearest = 0;
+  for (size_t i = 1; i < hues.size(); ++i) {
+    if (std::abs(HueDifference(hues[i], centre)) <
+        std::abs(HueDifference(hues[nearest], centre))) {
+      nearest = i;
+    }
+  }
+  std::vector<Blob> kept;
+  for (size_t i = 0; i < blobs.size(); ++i) {
+    if (std::abs(HueDifference(hues[i], hues[nearest])) <= max_difference) {
+      kept.push_back(blobs[i]);
+    } else {
+      tuning->other_hue.push_back(blobs[i]);
+      tuning->other_hues.push_back(hues[i]);
+    }
+  }
+  blobs = std::move(kept);
+}
+
 cv::Mat Overlay(const cv::Mat& bgr, const cv::Mat& mask,
                 const BlobSummary& blobs, double radius) {
   cv::Mat overlay = bgr.clone();
@@ -53,6 +116,9 @@ cv::Mat Overlay(const cv::Mat& bgr, const cv::Mat& mask,
 std::optional<std::string> ColorTuningOptions::Check() const {
   if (!(dot_radius_px >= 0.0))
     return "dot_radius_px must be >= 0 (0: estimate)";
+  if (!(max_hue_difference > 0.0 && max_hue_difference < 90.0)) {
+    return "max_hue_difference must be in (0, 90)";
+  }
   return std::nullopt;
 }
 
@@ -75,6 +141,7 @@ ColorTuning TuneColor(const cv::Mat& bgr, const HsvRange& range,
   CleanMask(tuning.segmentation, &tuning.mask);
   tuning.blobs = FindBlobs(tuning.mask, tuning.segmentation);
   const double radius = tuning.segmentation.dot_radius_px;
+  SplitByHue(bgr, range, radius, options.max_hue_difference, &tuning);
   tuning.learned = LearnFromDots(bgr, tuning.mask, tuning.blobs, radius);
   tuning.overlay = Overlay(bgr, tuning.mask, tuning.blobs, radius);
   return tuning;

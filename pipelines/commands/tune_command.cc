@@ -175,6 +175,13 @@ int RunTune(const TuneCommandOptions& options, std::ostream& out) {
         tuning.segmentation.dot_radius_px, blobs.rejected_area,
         blobs.rejected_area == 1 ? "" : "s", blobs.rejected_shape, dir.string(),
         stem);
+    if (!tuning.other_hue.empty()) {
+      out << fmt::format(
+          "{} dot-sized blob{} of another hue (h {:.0f}) left out of the "
+          "dots and of the suggested range: another colour inside {}'s\n",
+          tuning.other_hue.size(), tuning.other_hue.size() == 1 ? "" : "s",
+          tuning.other_hues.front(), tuned[i].name);
+    }
     const LearnedHsvRange& learned = tuning.learned;
     if (learned.dot_pixels == 0) {
       out << "no dots to learn a range from; try another --at or --hsv\n";

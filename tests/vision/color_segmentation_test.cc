@@ -4,6 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "vision/color_tuning.h"
+
 namespace softbench {
 namespace {
 
@@ -86,6 +88,34 @@ TEST(LearnHsvRange, HoldsTheDotsAndWrapsForRed) {
   EXPECT_GE(learned.range.value_low, 0);
   EXPECT_LE(learned.range.value_low, learned.range.value_high);
   EXPECT_LE(learned.range.value_high, 255);
+}
+
+// Reddish orange (hue 8) falls inside the built-in red range (170..10): the
+// suggestion keeps the red dots only and names the orange ones.
+TEST(TuneColor, LeavesOrangeOutOfARedRange) {
+  cv::Mat image(240, 320, CV_8UC3, cv::Scalar(150, 155, 160));
+  const cv::Scalar red(40, 40, 200), orange(0, 70, 255);
+  for (int i = 0; i < 3; ++i) {
+    cv::circle(image, {60 + 50 * i, 70}, 10, red, cv::FILLED, cv::LINE_AA);
+    cv::circle(image, {60 + 50 * i, 170}, 10, orange, cv::FILLED, cv::LINE_AA);
+  }
+  const HsvRange built_in = HsvRange::FromBounds({170, 10, 100, 255, 50, 255});
+  cv::Mat hsv;
+  cv::cvtColor(image, hsv, cv::COLOR_BGR2HSV);
+  const cv::Vec3b orange_hsv = hsv.at<cv::Vec3b>(170, 60);
+  const cv::Vec3b red_hsv = hsv.at<cv::Vec3b>(70, 60);
+  ASSERT_TRUE(built_in.Contains(orange_hsv));  // the problem
+  const ColorTuning tuning = TuneColor(image, built_in, {});
+  ASSERT_TRUE(tuning.found);
+  EXPECT_EQ(tuning.blobs.accepted.size(), 3u);
+  ASSERT_EQ(tuning.other_hue.size(), 3u);
+  for (const Blob& blob : tuning.blobs.accepted) {
+    EXPECT_NEAR(blob.centroid.y(), 70.0, 1.0);
+  }
+  EXPECT_NEAR(tuning.other_hues[0], orange_hsv[0], 1.0);
+  EXPECT_TRUE(tuning.learned.range.Contains(red_hsv));
+  EXPECT_FALSE(tuning.learned.range.Contains(orange_hsv));
+  EXPECT_EQ(tuning.learned.outside_pixels, 0);
 }
 
 }  // namespace
