@@ -180,29 +180,44 @@ BlobSummary SegmentDots(const cv::Mat& bgr, const HsvRange& range,
   return FindBlobs(mask, options, offset);
 }
 
+double MeanHue(const cv::Mat& hsv, const cv::Mat& mask, const cv::Rect& box) {
+  double sum_cos = 0.0, sum_sin = 0.0;
+  int pixels = 0;
+  const cv::Rect inside = box & cv::Rect(0, 0, hsv.cols, hsv.rows);
+  for (int y = inside.y; y < inside.y + inside.height; ++y) {
+    for (int x = inside.x; x < inside.x + inside.width; ++x) {
+      if (mask.at<uint8_t>(y, x) == 0) continue;
+      const cv::Vec3b p = hsv.at<cv::Vec3b>(y, x);
+      const double angle = p[0] * std::numbers::pi / 90.0;  // 180 -> 2 pi
+      sum_cos += std::cos(angle) * p[1];
+      sum_sin += std::sin(angle) * p[1];
+      ++pixels;
+    }
+  }
+  if (pixels == 0) return NAN;
+  const double hue = std::atan2(sum_sin, sum_cos) * 90.0 / std::numbers::pi;
+  return hue < 0.0 ? hue + 180.0 : hue;
+}
+
 LearnedHsvRange LearnHsvRange(const cv::Mat& bgr, const cv::Mat& dot_cores,
                               const cv::Mat& dot_regions) {
   cv::Mat hsv;
   cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   std::vector<double> offsets;  // hue relative to the circular mean
   std::vector<int> saturation, value;
-  double sum_cos = 0.0, sum_sin = 0.0;
   std::vector<cv::Vec3b> pixels;
   for (int y = 0; y < hsv.rows; ++y) {
     for (int x = 0; x < hsv.cols; ++x) {
-      if (dot_cores.at<uint8_t>(y, x) == 0) continue;
-      const cv::Vec3b p = hsv.at<cv::Vec3b>(y, x);
-      pixels.push_back(p);
-      const double angle = p[0] * std::numbers::pi / 90.0;  // 180 -> 2 pi
-      sum_cos += std::cos(angle) * p[1];
-      sum_sin += std::sin(angle) * p[1];
+      if (dot_cores.at<uint8_t>(y, x) != 0) {
+        pixels.push_back(hsv.at<cv::Vec3b>(y, x));
+      }
     }
   }
   LearnedHsvRange learned;
   learned.dot_pixels = static_cast<int>(pixels.size());
   if (pixels.empty()) return learned;
   const double mean_hue =
-      std::atan2(sum_sin, sum_cos) * 90.0 / std::numbers::pi;
+      MeanHue(hsv, dot_cores, cv::Rect(0, 0, hsv.cols, hsv.rows));
   for (const cv::Vec3b& p : pixels) {
     double d = p[0] - mean_hue;
     while (d > 90) d -= 180;

@@ -99,6 +99,12 @@ BlobSummary SegmentDots(const cv::Mat& bgr, const HsvRange& range,
 
 // What LearnHsvRange found: the suggested range and how it separates the
 // dots from the rest of the image.
+// The saturation-weighted circular mean hue (OpenCV units, 0-180) of the
+// pixels of `hsv` (CV_8UC3, OpenCV's HSV) under `mask` within `box`: grey
+// pixels, whose hue is noise, barely count, and red's hues on both sides of
+// 0 average to red. NaN when no pixel is under the mask.
+double MeanHue(const cv::Mat& hsv, const cv::Mat& mask, const cv::Rect& box);
+
 struct LearnedHsvRange {
   HsvRange range;
   int dot_pixels = 0;         // pixels the range was learned from

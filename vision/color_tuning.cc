@@ -41,24 +41,12 @@ double HueDifference(double a, double b) {
   return d;
 }
 
-// A blob's hue: the saturation-weighted circular mean over its core.
+// A blob's hue: the mean hue over its core, where the colour is the dot's own.
 double BlobHue(const cv::Mat& hsv, const Blob& blob, double radius) {
   cv::Mat core = cv::Mat::zeros(hsv.size(), CV_8UC1);
   cv::circle(core, Pixel(blob.centroid),
              std::max(1, static_cast<int>(0.7 * radius)), 255, cv::FILLED);
-  double sum_cos = 0.0, sum_sin = 0.0;
-  const cv::Rect box = blob.box & cv::Rect(0, 0, hsv.cols, hsv.rows);
-  for (int y = box.y; y < box.y + box.height; ++y) {
-    for (int x = box.x; x < box.x + box.width; ++x) {
-      if (core.at<uint8_t>(y, x) == 0) continue;
-      const cv::Vec3b p = hsv.at<cv::Vec3b>(y, x);
-      const double angle = p[0] * std::numbers::pi / 90.0;
-      sum_cos += std::cos(angle) * p[1];
-      sum_sin += std::sin(angle) * p[1];
-    }
-  }
-  const double hue = std::atan2(sum_sin, sum_cos) * 90.0 / std::numbers::pi;
-  return hue < 0.0 ? hue + 180.0 : hue;
+  return MeanHue(hsv, core, blob.box);
 }
 
 // Splits the accepted blobs by hue: those within max_hue_difference of the
