@@ -12,6 +12,7 @@
 
 #include "pipelines/commands/render_command.h"
 #include "pipelines/commands/tune_command.h"
+#include "pipelines/commands/validate_command.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -309,6 +310,16 @@ TEST_F(TrackCommandTest, TunePageSlidersMoveTheMaskAndItsYamlFindsTheDots) {
   }
   EXPECT_GT(rows, 100);
   EXPECT_EQ(complete, rows) << hsv;
+  // And validate, with that plan, measures the test.
+  ValidateCommandOptions validate;
+  validate.video_paths = {Path("clip.mp4")};
+  validate.plan_path = track.plan_path;
+  validate.output_directory = Path("tuned_report");
+  validate.quiet = true;
+  ASSERT_EQ(RunValidate(validate, out), 0) << hsv;
+  EXPECT_NE(out.str().find("1 test points (times from the plan), 1 measured"),
+            std::string::npos)
+      << out.str();
 }
 
 TEST_F(TrackCommandTest, TuneTakesAPhotoAndRefusesHeic) {
