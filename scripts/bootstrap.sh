@@ -11,6 +11,7 @@ packages=(
   libfmt-dev libspdlog-dev libfast-float-dev
   libopencv-dev libapriltag-dev
   libssl-dev           # SHA-256 of every input a report names (OpenSSL)
+  libheif-dev          # tune reads HEIC photos (an iPhone's default)
   libcairo2-dev        # softbench targets: the printable sheets (PDF, SVG)
   libpoppler-cpp-dev   # the tests rasterise those sheets to measure them
   opencv-doc           # the tests calibrate on its chessboard photos left*.jpg

@@ -15,8 +15,8 @@
 #include "pipelines/reports/tune_page.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
-#include "util/input_file.h"
 #include "vision/color_tuning.h"
+#include "vision/photo_reader.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -34,7 +34,7 @@ void WritePng(const fs::path& path, const cv::Mat& image) {
 
 void AddTuneCommand(CLI::App* c, TuneCommandOptions* options) {
   c->add_option("source", options->source_path,
-                "bench video, or a photo of the bench (.png, .jpg)")
+                "bench video, or a photo of the bench (.png, .jpg, .heic)")
       ->required();
   c->add_option("--at", options->at_s, "video: time of the frame [s]")
       ->capture_default_str();
@@ -60,22 +60,8 @@ struct Picture {
 
 // The frame at --at of a video, or a photo as it is.
 Picture LoadPicture(const TuneCommandOptions& options) {
-  std::string ext = fs::path(options.source_path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  if (ext == ".heic" || ext == ".heif") {
-    throw InputError(options.source_path +
-                     ": HEIC photos are not readable with Debian 12's "
-                     "OpenCV; export it as JPEG (Photos: share as JPEG, or "
-                     "heif-convert) or give the video");
-  }
-  if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") {
-    CheckInputFile(options.source_path, "the photo");
-    cv::Mat bgr = cv::imread(options.source_path, cv::IMREAD_COLOR);
-    if (bgr.empty()) {
-      throw InputError(options.source_path +
-                       ": not a readable PNG or JPEG image; re-export it");
-    }
-    return {bgr, 0.0};
+  if (IsPhotoPath(options.source_path)) {
+    return {ReadPhoto(options.source_path), 0.0};
   }
   VideoReader reader(options.source_path);
   const VideoFrame frame = reader.SeekTo(options.at_s);

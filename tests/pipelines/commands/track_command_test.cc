@@ -3,11 +3,13 @@
 #include "pipelines/commands/track_command.h"
 
 #include <gtest/gtest.h>
+#include <libheif/heif.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "pipelines/commands/render_command.h"
@@ -322,8 +324,37 @@ TEST_F(TrackCommandTest, TunePageSlidersMoveTheMaskAndItsYamlFindsTheDots) {
       << out.str();
 }
 
-TEST_F(TrackCommandTest, TuneTakesAPhotoAndRefusesHeic) {
-  // A photo of the bench: the clip's frame saved as JPEG.
+// `bgr` written as an iPhone writes photos: HEIC (HEVC in HEIF), by libheif
+// with x265.
+void WriteHeic(const cv::Mat& bgr, const std::string& path) {
+  heif_context* context = heif_context_alloc();
+  heif_encoder* encoder = nullptr;
+  ASSERT_EQ(heif_context_get_encoder_for_format(context, heif_compression_HEVC,
+                                                &encoder)
+                .code,
+            heif_error_Ok);
+  heif_encoder_set_lossy_quality(encoder, 95);
+  heif_image* image = nullptr;
+  heif_image_create(bgr.cols, bgr.rows, heif_colorspace_RGB,
+                    heif_chroma_interleaved_RGB, &image);
+  heif_image_add_plane(image, heif_channel_interleaved, bgr.cols, bgr.rows, 8);
+  int stride = 0;
+  uint8_t* plane =
+      heif_image_get_plane(image, heif_channel_interleaved, &stride);
+  cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, plane, static_cast<size_t>(stride));
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  ASSERT_EQ(
+      heif_context_encode_image(context, image, encoder, nullptr, nullptr).code,
+      heif_error_Ok);
+  ASSERT_EQ(heif_context_write_to_file(context, path.c_str()).code,
+            heif_error_Ok);
+  heif_image_release(image);
+  heif_encoder_release(encoder);
+  heif_context_free(context);
+}
+
+TEST_F(TrackCommandTest, TuneTakesPngJpegAndHeicPhotos) {
+  // Photos of the bench: the clip's frame saved as each.
   TuneCommandOptions options;
   options.source_path = Path("clip.mp4");
   options.at_s = 0.5;
@@ -332,21 +363,30 @@ TEST_F(TrackCommandTest, TuneTakesAPhotoAndRefusesHeic) {
   ASSERT_EQ(RunTune(options, out), 0);
   const cv::Mat frame =
       cv::imread(Path("tune_photo_source/tune_0.50s_frame.png"));
+  ASSERT_FALSE(frame.empty());
+  cv::imwrite(Path("bench.png"), frame);
   cv::imwrite(Path("bench.jpg"), frame, {cv::IMWRITE_JPEG_QUALITY, 92});
-  options.source_path = Path("bench.jpg");
-  options.output_dir = Path("tune_photo");
-  std::ostringstream photo;
-  ASSERT_EQ(RunTune(options, photo), 0);
-  EXPECT_NE(photo.str().find("red: 3 dots"), std::string::npos) << photo.str();
-  EXPECT_TRUE(fs::exists(Path("tune_photo/tune.html")));
-  options.source_path = Path("bench.HEIC");
+  WriteHeic(frame, Path("bench.HEIC"));
+  for (const char* photo : {"bench.png", "bench.jpg", "bench.HEIC"}) {
+    options.source_path = Path(photo);
+    options.output_dir = Path(std::string("tune_") + photo);
+    std::ostringstream said;
+    ASSERT_EQ(RunTune(options, said), 0) << photo;
+    EXPECT_NE(said.str().find("red: 3 dots"), std::string::npos)
+        << photo << ": " << said.str();
+    EXPECT_TRUE(fs::exists(options.output_dir + "/tune.html")) << photo;
+  }
+  options.source_path = Path("broken.heic");
   std::ofstream(options.source_path) << "not really";
   try {
-    RunTune(options, photo);
-    FAIL() << "accepted HEIC";
+    RunTune(options, out);
+    FAIL() << "read a broken HEIC";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("export it as JPEG"),
-              std::string::npos)
+    EXPECT_EQ(std::string(e.what()).rfind(options.source_path +
+                                              ": not a "
+                                              "readable HEIC/HEIF photo",
+                                          0),
+              0u)
         << e.what();
   }
 }
