@@ -40,12 +40,14 @@ double HueDifference(double a, double b) {
   return d;
 }
 
-// A blob's hue: the mean hue over its core, where the colour is the dot's own.
+// A blob's hue: the mean hue over its core, where the colour is the dot's own
+// (a mask of the blob's box only: a 4K frame's worth per blob is waste).
 double BlobHue(const cv::Mat& hsv, const Blob& blob, double radius) {
-  cv::Mat core = cv::Mat::zeros(hsv.size(), CV_8UC1);
-  cv::circle(core, Pixel(blob.centroid),
+  const cv::Rect box = blob.box & cv::Rect(0, 0, hsv.cols, hsv.rows);
+  cv::Mat core = cv::Mat::zeros(box.size(), CV_8UC1);
+  cv::circle(core, Pixel(blob.centroid) - box.tl(),
              std::max(1, static_cast<int>(0.7 * radius)), 255, cv::FILLED);
-  return MeanHue(hsv, core, blob.box);
+  return MeanHue(hsv(box), core, cv::Rect(cv::Point(), box.size()));
 }
 
 // Splits the accepted blobs by hue: those within max_hue_difference of the

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "pipelines/reports/html_report.h"
+#include "util/statistics.h"
 
 namespace softbench {
 namespace {
@@ -18,9 +19,7 @@ constexpr int kCoverageRows = 6;
 constexpr int kCoverageChartWidth = 560;
 
 double MedianError(const CameraCalibration& c) {
-  std::vector<double> sorted = c.view_errors_px;
-  std::sort(sorted.begin(), sorted.end());
-  return sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  return c.view_errors_px.empty() ? 0.0 : Median(c.view_errors_px);
 }
 
 // The board's outline: its four outer inner corners, in order round it.
