@@ -86,8 +86,10 @@ class LogRowParser {
     if (pressure_mpa < options_.min_pressure_mpa ||
         pressure_mpa > options_.max_pressure_mpa) {
       return Skip(fmt::format(
-          "pressure {} is outside {} .. {} in the log's unit", *pressure,
-          options_.min_pressure_mpa / columns_.mpa_per_unit,
+          "pressure {} is outside {:.4g} .. {:.4g} in the log's unit (is the "
+          "manifest's pressure_unit, or --pressure-unit, the unit the log "
+          "is in?)",
+          *pressure, options_.min_pressure_mpa / columns_.mpa_per_unit,
           options_.max_pressure_mpa / columns_.mpa_per_unit));
     }
     if (std::abs(axial_n) > options_.max_abs_force_n ||

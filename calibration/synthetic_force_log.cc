@@ -70,8 +70,10 @@ std::optional<std::string> SyntheticForceLogOptions::Check() const {
       return "noise levels, errors and time constants must be finite and >= 0";
     }
   }
-  if (!(compression_area_factor > 0.0)) {
-    return "compression area factor must be > 0";
+  // A bellows' area in compression differs from its area in extension by
+  // tens of per cent, not by orders of magnitude.
+  if (!(compression_area_factor > 0.0 && compression_area_factor <= 10.0)) {
+    return "compression area factor must be > 0 and at most 10";
   }
   if (!(outlier_fraction >= 0.0 && outlier_fraction <= 1.0)) {
     return "outlier fraction must be in [0, 1]";

@@ -4,6 +4,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "util/check.h"
@@ -138,6 +139,28 @@ InverseResult SolvePressuresForTarget(const EquilibriumProblem& problem,
     if (best.reachable) break;
   }
   return best;
+}
+
+ReachCheck CheckWithinReach(const EquilibriumProblem& problem,
+                            const Eigen::VectorXd& x_mm,
+                            double max_pressure_mpa, double tolerance_mm) {
+  SOFTBENCH_CHECK(tolerance_mm > 0.0) << tolerance_mm;
+  InverseOptions options;
+  options.max_pressure_mpa = max_pressure_mpa;
+  options.reach_tolerance_mm = tolerance_mm;
+  const InverseResult closest = SolvePressuresForTarget(problem, x_mm, options);
+  if (!closest.solved) {
+    return {false, std::numeric_limits<double>::quiet_NaN()};
+  }
+  return {closest.reachable, closest.reachable ? 0.0 : closest.distance_mm};
+}
+
+ReachCheck ReachOfPrediction(const EquilibriumProblem& problem,
+                             const CharacterisedRange& range,
+                             const Eigen::VectorXd& pressures_mpa,
+                             const Eigen::VectorXd& x_mm) {
+  if (!PressuresOutsideCharacterisedRange(range, pressures_mpa)) return {};
+  return CheckWithinReach(problem, x_mm, range.max_pressure_mpa);
 }
 
 }  // namespace softbench

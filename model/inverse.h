@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "model/characterised_range.h"
 #include "model/equilibrium.h"
 #include "model/units.h"
 
@@ -56,6 +57,37 @@ struct InverseResult {
 InverseResult SolvePressuresForTarget(const EquilibriumProblem& problem,
                                       const Eigen::VectorXd& target_mm,
                                       const InverseOptions& options = {});
+
+// Whether a prediction lies within the mechanism's reach: the head positions
+// that pressures in [0, max_pressure_mpa] (the characterised range) hold the
+// heads at. Pressures beyond that range can put the model's heads anywhere
+// (1000 psi moves the delta's head 133 mm); such a prediction is marked,
+// never shown as fine.
+struct ReachCheck {
+  // True when some pressures in range put the heads within tolerance_mm of
+  // the prediction.
+  bool within = true;
+  // Distance from the prediction to the closest position in reach [mm]; nan
+  // when the search found no equilibrium (then `within` is false: the
+  // prediction cannot be shown to lie in reach).
+  double distance_mm = 0.0;
+};
+// `x_mm` holds the heads' predicted displacements (y1, z1, ...). Solves the
+// bounded inverse (SolvePressuresForTarget), so call it only for pressures
+// beyond the range: within it, a prediction is in reach by definition.
+ReachCheck CheckWithinReach(const EquilibriumProblem& problem,
+                            const Eigen::VectorXd& x_mm,
+                            double max_pressure_mpa,
+                            double tolerance_mm = 1e-3);
+
+// The reach of the equilibrium `x_mm` found at `pressures_mpa`: within by
+// definition when the pressures lie in `range` (deformations beyond it are
+// extrapolation, which in_range marks, but the pressures do reach there);
+// else CheckWithinReach against the range's highest pressure.
+ReachCheck ReachOfPrediction(const EquilibriumProblem& problem,
+                             const CharacterisedRange& range,
+                             const Eigen::VectorXd& pressures_mpa,
+                             const Eigen::VectorXd& x_mm);
 
 }  // namespace softbench
 

@@ -2,9 +2,11 @@
 #define SOFTBENCH_MODEL_UNITS_H_
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <optional>
 #include <span>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -58,6 +60,33 @@ inline std::string PressureUnitNames() {
   std::vector<std::string_view> names;
   for (const PressureUnit& unit : kPressureUnits) names.push_back(unit.name);
   return JoinNames(names);
+}
+
+// No pneumatic actuator holds more than this (100 MPa is 14,500 psi, over a
+// hundred times the burst pressure of a printed bellows): a pressure above it
+// is a typo or a wrong unit, and is refused before the model turns it into
+// numbers that overflow or mean nothing.
+inline constexpr double kMaxPlausiblePressureMpa = 100.0;
+
+// Why `value`, in a unit of `mpa_per_unit` MPa named `unit`, is not a gauge
+// pressure a bench can hold (not finite, negative, or above
+// kMaxPlausiblePressureMpa), or nothing when it is one.
+inline std::optional<std::string> ImplausiblePressure(double value,
+                                                      double mpa_per_unit,
+                                                      std::string_view unit) {
+  std::ostringstream why;
+  why << value << " " << unit;
+  if (!std::isfinite(value)) return "'" + why.str() + "' is not a number";
+  if (value < 0.0) {
+    return why.str() + " is negative; pressures are gauge pressures >= 0";
+  }
+  if (value * mpa_per_unit > kMaxPlausiblePressureMpa) {
+    why << " is above " << kMaxPlausiblePressureMpa
+        << " MPa, more than any pneumatic actuator holds; check the value "
+           "and its unit";
+    return why.str();
+  }
+  return std::nullopt;
 }
 
 inline constexpr double DegToRad(double degrees) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <thread>
 
+#include "model/inverse.h"
 #include "util/check.h"
 
 namespace softbench {
@@ -115,6 +116,7 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
   map.displacements_mm.resize(count, n);
   map.summaries.resize(count);
   map.in_range.assign(count, 1);
+  map.within_reach.assign(count, 1);
 
   // The Gray-code order is cut into runs of a fixed length that threads take
   // one at a time: a thread that starts late or shares its core with other
@@ -151,7 +153,12 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
             OutsideCharacterisedRange(*options.range, problem, pressures, x)) {
           map.in_range[row] = 0;
         }
+        if (options.range &&
+            !ReachOfPrediction(problem, *options.range, pressures, x).within) {
+          map.within_reach[row] = 0;
+        }
       } else {
+        map.within_reach[row] = 0;
         map.displacements_mm.row(row).setConstant(std::nan(""));
         if (options.range &&
             PressuresOutsideCharacterisedRange(*options.range, pressures)) {
@@ -177,6 +184,12 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
       [](const EquilibriumSummary& s) { return !s.converged(); }));
   map.num_outside_range = static_cast<int>(
       std::count(map.in_range.begin(), map.in_range.end(), uint8_t{0}));
+  map.num_beyond_reach = 0;
+  for (long long i = 0; i < count; ++i) {
+    if (map.summaries[i].converged() && map.within_reach[i] == 0) {
+      ++map.num_beyond_reach;
+    }
+  }
 }
 
 }  // namespace softbench

@@ -19,7 +19,9 @@ struct WorkspaceOptions {
   int num_threads = 0;
   EquilibriumOptions equilibrium;
   // When set, each converged configuration is checked against the range the
-  // constants were characterised over (WorkspaceMap::in_range), on the
+  // constants were characterised over (WorkspaceMap::in_range) and, where
+  // its pressures lie beyond it, against the mechanism's reach
+  // (WorkspaceMap::within_reach, a bounded inverse solve each), on the
   // workers that solve it.
   std::optional<CharacterisedRange> range;
 
@@ -48,6 +50,12 @@ struct WorkspaceMap {
   // extrapolates there; OutsideCharacterisedRange says why), else 1.
   std::vector<uint8_t> in_range;
   int num_outside_range = 0;
+  // Per row, with WorkspaceOptions::range: 0 when the heads lie beyond the
+  // mechanism's reach (ReachOfPrediction: no pressures in the range hold
+  // them there, or it could not be shown), else 1. Rows that did not
+  // converge are 0.
+  std::vector<uint8_t> within_reach;
+  int num_beyond_reach = 0;
 
   // Extents per head over converged configurations only.
   std::vector<HeadExtents> Extents() const;

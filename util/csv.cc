@@ -104,6 +104,15 @@ CsvReader::CsvReader(const std::string& path, DecimalMark decimal_mark)
   if (!file_) {
     throw InputError(path + ": cannot open the file; check its permissions");
   }
+  // Line ends from the first block: a CR followed by anything but LF ends
+  // lines on its own (old Mac OS); read as LF, such a file is one long line.
+  Refill();
+  const auto* first_cr =
+      static_cast<const char*>(std::memchr(buffer_.data(), '\r', end_));
+  if (first_cr != nullptr && first_cr + 1 < buffer_.data() + end_ &&
+      first_cr[1] != '\n') {
+    line_end_ = '\r';
+  }
   if (!NextContentLine()) {
     throw InputError(path + ": the file is empty; it needs a header row");
   }
@@ -171,7 +180,7 @@ bool CsvReader::Refill() {
 bool CsvReader::NextContentLine() {
   for (;;) {
     const char* begin = buffer_.data() + begin_;
-    const void* newline = std::memchr(begin, '\n', end_ - begin_);
+    const void* newline = std::memchr(begin, line_end_, end_ - begin_);
     size_t length = 0;
     if (newline != nullptr) {
       length = static_cast<const char*>(newline) - begin;

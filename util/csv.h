@@ -85,6 +85,9 @@ class CsvReader {
   std::vector<std::string> header_;
   int line_number_ = 0;
   char separator_ = ',';
+  // '\n' (with or without a CR before it), or '\r' for a file with old Mac
+  // OS line ends, which some lab software still writes.
+  char line_end_ = '\n';
   DecimalMark decimal_mark_ = DecimalMark::kPoint;
   // The rewritten numbers of the row last read (DecimalMark::kComma).
   std::deque<std::string> dotted_;

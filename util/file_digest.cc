@@ -11,10 +11,13 @@
 
 #include "util/check.h"
 #include "util/input_error.h"
+#include "util/input_file.h"
 
 namespace softbench {
 
-std::string Sha256OfFile(const std::string& path) {
+std::optional<std::string> Sha256OfFile(const std::string& path,
+                                        const std::atomic<bool>* stop) {
+  CheckInputFile(path, "input");
   std::ifstream file(path, std::ios::binary);
   if (!file) {
     throw InputError(
@@ -28,6 +31,9 @@ std::string Sha256OfFile(const std::string& path) {
       << "OpenSSL's SHA-256 is unavailable";
   std::vector<char> block(size_t{1} << 20);
   while (file) {
+    if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
+      return std::nullopt;
+    }
     file.read(block.data(), static_cast<std::streamsize>(block.size()));
     if (file.gcount() > 0) {
       EVP_DigestUpdate(context.get(), block.data(),

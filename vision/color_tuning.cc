@@ -103,8 +103,10 @@ cv::Mat Overlay(const cv::Mat& bgr, const cv::Mat& mask,
 }  // namespace
 
 std::optional<std::string> ColorTuningOptions::Check() const {
-  if (!(dot_radius_px >= 0.0))
-    return "dot_radius_px must be >= 0 (0: estimate)";
+  // A dot wider than a 4K frame is no dot.
+  if (!(dot_radius_px >= 0.0 && dot_radius_px <= 2000.0)) {
+    return "dot_radius_px must be 0 (estimate) to 2000 px";
+  }
   if (!(max_hue_difference > 0.0 && max_hue_difference < 90.0)) {
     return "max_hue_difference must be in (0, 90)";
   }

@@ -168,6 +168,13 @@ struct VideoReader::State {
   // The frame Read() or SeekTo() returned last (-1 after a seek starts):
   // frames the container lists between it and the next are lost.
   int64_t last_returned_index = -1;
+  // Set by a seek: the frames skipped to get there are not lost. Before any
+  // seek, frames the container lists before the first one decoded are (a
+  // damaged key frame at the start).
+  bool seeked = false;
+  // The picture size the stream's header declares (as stored, before the
+  // display rotation): every decoded frame must have it.
+  int header_width = 0, header_height = 0;
   std::vector<VideoReader::DamagedFrame> damaged;
   bool tainted = false;  // damaged data since the last key frame
   double last_good_time = 0.0;
@@ -246,9 +253,16 @@ struct VideoReader::State {
   // before it since the last one returned are lost, and it is damaged if
   // the decoder says so or if it is predicted from damaged data.
   void NoteReturned() {
+    if (frame->width != header_width || frame->height != header_height) {
+      Fail(fmt::format(
+          "its header declares {}x{} pictures, but frame {} decodes as "
+          "{}x{} (a damaged or edited header); re-copy or re-export the file",
+          header_width, header_height, last_good_index, frame->width,
+          frame->height));
+    }
     bool lost = false;
     for (int64_t i = last_returned_index + 1;
-         last_returned_index >= 0 && i < last_good_index; ++i) {
+         (last_returned_index >= 0 || !seeked) && i < last_good_index; ++i) {
       const double time_s = i < static_cast<int64_t>(info.frame_times_s.size())
                                 ? info.frame_times_s[i]
                                 : last_good_time;
@@ -497,8 +511,9 @@ VideoReader::VideoReader(const std::string& path,
   }
   int err = avformat_open_input(&s.format, path.c_str(), nullptr, nullptr);
   if (err < 0) {
-    s.Fail("cannot open the video (" + FfmpegError(err) +
-           "); check the path, or re-copy the file if it is truncated");
+    s.Fail("FFmpeg cannot read it as a video (" + FfmpegError(err) +
+           "); check that this is the bench video, or re-copy the file if "
+           "it is truncated or damaged");
   }
   err = avformat_find_stream_info(s.format, nullptr);
   if (err < 0)
@@ -517,6 +532,8 @@ VideoReader::VideoReader(const std::string& path,
                     "re-copy or re-export the file",
                     stream->codecpar->width, stream->codecpar->height));
   }
+  s.header_width = stream->codecpar->width;
+  s.header_height = stream->codecpar->height;
   const AVCodec* decoder = avcodec_find_decoder(stream->codecpar->codec_id);
   if (decoder == nullptr) {
     s.Fail(std::string("no decoder for codec '") +
@@ -567,6 +584,22 @@ VideoReader::VideoReader(const std::string& path,
   // name before any measurement starts.
   s.desc =
       av_pix_fmt_desc_get(static_cast<AVPixelFormat>(stream->codecpar->format));
+  if (s.desc == nullptr) {
+    // FFmpeg decodes frames to learn the pixel format: none known means no
+    // frame decoded, because the media data is missing or damaged.
+    const bool has_data = av_read_frame(s.format, s.packet) >= 0;
+    av_packet_unref(s.packet);
+    s.Fail(has_data
+               ? fmt::format("none of its first frames decodes (the video "
+                             "data is damaged, though the container lists "
+                             "{} frames); re-copy or re-export the video",
+                             info.frame_count)
+               : fmt::format("holds no video data: the container lists {} "
+                             "frames, but the file ends before any of them "
+                             "(a copy cut short, or an export that did not "
+                             "finish); re-copy or re-export the video",
+                             info.frame_count));
+  }
   if (auto why = WhyUnsupported(s.desc)) {
     s.Fail(*why +
            "; softbench reads YUV or grey video of 8 to 16 bits (4:2:0, "
@@ -727,7 +760,8 @@ VideoFrame VideoReader::SeekTo(double time_s) {
     forward = false;
   }
   s.last_returned_index = -1;  // the frames skipped to get here are not lost
-  s.tainted = false;           // decoding restarted at a key frame
+  s.seeked = true;
+  s.tainted = false;  // decoding restarted at a key frame
   s.NoteReturned();
   VideoFrame frame;
   s.Convert(&frame);

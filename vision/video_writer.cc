@@ -27,8 +27,21 @@ std::optional<std::string> VideoWriterOptions::Check() const {
   if (!(bitrate_mbps >= 0.0 && bitrate_mbps <= 1000.0)) {
     return "bitrate must be 0 (use the CRF) or up to 1000 Mb/s";
   }
+  // x264's and x265's presets: checked here, since an unknown one makes the
+  // encoder print its own complaint to the terminal before failing.
+  static constexpr std::string_view kPresets[] = {
+      "ultrafast", "superfast", "veryfast", "faster",   "fast",
+      "medium",    "slow",      "slower",   "veryslow", "placebo"};
+  if (std::find(std::begin(kPresets), std::end(kPresets), preset) ==
+      std::end(kPresets)) {
+    return "preset '" + preset +
+           "' is not one of ultrafast, superfast, veryfast, faster, fast, "
+           "medium, slow, slower, veryslow, placebo";
+  }
   if (threads < 1) return "threads must be >= 1";
-  if (!(keyframe_interval_s > 0.0)) return "keyframe interval must be > 0";
+  if (!(keyframe_interval_s > 0.0 && keyframe_interval_s <= 3600.0)) {
+    return "keyframe interval must be > 0 s and at most an hour";
+  }
   if (rotation_deg % 90 != 0) return "rotation must be a multiple of 90";
   if (bit_depth != 8 && bit_depth != 10 && bit_depth != 12) {
     return "bit depth must be 8, 10 or 12";

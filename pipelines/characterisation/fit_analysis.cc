@@ -112,7 +112,10 @@ std::optional<std::string> FitAnalysisOptions::Check() const {
   if (input_path.empty()) return "input_path: give a manifest or a CSV";
   if (auto problem = fit.Check()) return "fit: " + *problem;
   if (robust_rows < 1000) return "robust_rows: keep at least 1000 rows";
-  if (!(natural_length_mm > 0.0)) return "natural_length_mm: must be > 0 mm";
+  if (!(natural_length_mm > 0.0 && natural_length_mm <= 1000.0)) {
+    return "natural_length_mm: must be > 0 and at most 1000 mm (the "
+           "actuator's length at rest)";
+  }
   if (threads < 0) return "threads: must be >= 0";
   return std::nullopt;
 }

@@ -49,6 +49,23 @@ ForceLogColumns ParseColumns(const YamlReader& reader, const YAML::Node& root) {
     if (names["time"]) columns.time = reader.String(names["time"], "time");
     if (names["pressure"]) {
       columns.pressure = reader.String(names["pressure"], "pressure");
+      // A column whose name states a unit (pressure_kpa) must state this
+      // one: read in another, every pressure is off by a constant factor.
+      const size_t underscore = columns.pressure.rfind('_');
+      const PressureUnit* named =
+          underscore == std::string::npos
+              ? nullptr
+              : FindPressureUnit(
+                    std::string_view(columns.pressure).substr(underscore + 1));
+      if (named != nullptr &&
+          *MpaPerPressureUnit(unit) != named->mpa_per_unit) {
+        reader.Fail(
+            unit_node, "pressure_unit",
+            fmt::format("is {}, but the pressure column '{}' is in "
+                        "{}; set pressure_unit: {}, or name the "
+                        "column for the unit its numbers are in",
+                        unit, columns.pressure, named->name, named->name));
+      }
     }
   }
   if (const YAML::Node axes = root["axes"]) {

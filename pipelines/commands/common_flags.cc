@@ -59,6 +59,14 @@ BoardOptions ParseBoardFlag(const std::string& board, double square_mm) {
     throw InputError("--board: '" + board +
                      "' is not COLUMNSxROWS of inner corners, e.g. 9x6");
   }
+  // The square is checked here, under its own flag, so that a wrong size is
+  // not blamed on --board; no printed board has squares of a metre.
+  if (!(square_mm > 0.0 && square_mm <= 1000.0)) {
+    throw InputError(fmt::format(
+        "--square-mm: {} is not a square's side; give the printed square's "
+        "side in mm, > 0 and at most 1000 (measure it on the print)",
+        square_mm));
+  }
   return {columns, rows, square_mm};
 }
 

@@ -207,10 +207,6 @@ int RunFit(const FitCommandOptions& options, std::ostream& out) {
   for (const ForceFitSummary& fit : run.fits) {
     if (!fit.ok) spdlog::warn("{}: {}", fit.model_name, fit.why_not);
   }
-  if (!options.report_directory.empty()) {
-    WriteFitReport(run, options.report_directory);
-    out << fmt::format("report: {}/report.html\n", options.report_directory);
-  }
   if (!chosen->ok) {
     throw InputError(fmt::format("{}: {} constants not written: {}",
                                  options.input_path, options.variant,
@@ -225,6 +221,12 @@ int RunFit(const FitCommandOptions& options, std::ostream& out) {
         fmt::format("{}: the fitted {} constants are not "
                     "physical ({}); check the sensor axes' signs",
                     options.input_path, options.variant, *problem));
+  }
+  // Written only once every check has passed: a refused fit leaves an
+  // earlier report and constants file as they were (issue 30).
+  if (!options.report_directory.empty()) {
+    WriteFitReport(run, options.report_directory);
+    out << fmt::format("report: {}/report.html\n", options.report_directory);
   }
   if (!options.output_path.empty()) {
     ConstantsFile file{chosen->constants, options.variant, FittedRange(run)};

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
+
 #include "model/inverse.h"
 #include "pipelines/commands/model_flags.h"
 #include "util/input_error.h"
@@ -45,11 +47,26 @@ int RunInverse(const InverseCommandOptions& options, std::ostream& out) {
         "y,z for each ({} numbers)",
         target.size(), resolved.mechanism.name, n / 2, n));
   }
+  // A head moves millimetres; a target a metre away is a typo, whose squared
+  // distance would overflow the solver's cost.
+  constexpr double kMaxTargetMm = 1000.0;
+  for (double value : target) {
+    if (!(std::abs(value) <= kMaxTargetMm)) {
+      throw InputError(fmt::format(
+          "--target: {} mm is not a position a head on a bench can be "
+          "asked for; give y,z in mm from rest, within +-{} mm",
+          value, kMaxTargetMm));
+    }
+  }
   InverseOptions inverse_options;
   if (options.max_pressure) {
-    if (!(*options.max_pressure > 0.0) ||
-        !std::isfinite(*options.max_pressure)) {
+    if (!(*options.max_pressure > 0.0)) {
       throw InputError("--max: must be a number > 0, in --pressure-unit");
+    }
+    if (const std::optional<std::string> why =
+            ImplausiblePressure(*options.max_pressure, resolved.mpa_per_unit,
+                                resolved.pressure_unit)) {
+      throw InputError("--max: " + *why);
     }
     inverse_options.max_pressure_mpa =
         *options.max_pressure * resolved.mpa_per_unit;
@@ -60,8 +77,13 @@ int RunInverse(const InverseCommandOptions& options, std::ostream& out) {
   const InverseResult result =
       SolvePressuresForTarget(problem, target_mm, inverse_options);
   if (!result.solved) {
-    throw InputError("inverse: the solver found no equilibrium at any start (" +
-                     result.message + ")");
+    throw InputError(fmt::format(
+        "inverse: the model has no equilibrium at any start within 0 .. "
+        "{:.4g} {} ({}); lower --max toward the characterised {:.4g} {}",
+        inverse_options.max_pressure_mpa / resolved.mpa_per_unit,
+        resolved.pressure_unit, result.message,
+        resolved.range.max_pressure_mpa / resolved.mpa_per_unit,
+        resolved.pressure_unit));
   }
   if (const std::optional<std::string> beyond = OutsideCharacterisedRange(
           resolved.range, problem, result.pressures_mpa,

@@ -2,11 +2,15 @@
 // reports. The commands come from the command table; this file parses the
 // command line, sets up logging and is the one place user errors are caught
 // (docs/error-policy.md).
+#include <glog/logging.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
+#include <opencv2/core/utils/logger.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +50,20 @@ std::string CommandLineError(const CLI::App* app, const CLI::Error& error) {
          "'\n";
 }
 
+// Every option's value that reads as a number must be a finite one: CLI11
+// reads "nan", "inf" and "1e999" into a double as readily as "6", and no
+// flag of softbench means anything with them. Lists ("6,6,0") and words
+// pass through to the command's own checks.
+const CLI::Validator kFiniteNumber(
+    [](std::string& value) -> std::string {
+      const char* begin = value.c_str();
+      char* end = nullptr;
+      const double number = std::strtod(begin, &end);
+      if (end == begin || *end != '\0' || std::isfinite(number)) return "";
+      return "'" + value + "' is not a finite number";
+    },
+    "", "finite number");
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -67,6 +85,11 @@ int main(int argc, char** argv) {
     CLI::App* subcommand = app.add_subcommand(std::string(command.name),
                                               std::string(command.help));
     runs.emplace_back(subcommand, command.add_flags(subcommand));
+    for (CLI::Option* option : subcommand->get_options()) {
+      if (option->nonpositional() && option->get_expected_min() > 0) {
+        option->check(kFiniteNumber);
+      }
+    }
   }
 
   try {
@@ -75,6 +98,14 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; every malformed line is bad input.
     return app.exit(e) == 0 ? 0 : kExitInputError;
   }
+  // Third-party libraries print nothing of their own: Ceres (through glog)
+  // and OpenCV report their failures to softbench's code, which turns them
+  // into its own messages (a solver's summary, an image that did not load),
+  // so their lines would only repeat them in another voice or, as glog's
+  // "Logging before InitGoogleLogging()", confuse. FFmpeg is silenced where
+  // vision/ opens it, and encoder presets are checked before x264 sees them.
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   auto logger = spdlog::stderr_color_mt("softbench");
   logger->set_pattern("softbench: %l: %v");
   logger->set_level(global.quiet ? spdlog::level::err : spdlog::level::info);

@@ -4,8 +4,11 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "model/equilibrium.h"
+#include "model/inverse.h"
 #include "pipelines/commands/command_output.h"
 #include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
@@ -27,6 +30,27 @@ void AddPredictCommand(CLI::App* command, PredictOptions* options) {
                       "one configuration, e.g. 6,6,0, printed for people");
   AddDecimalCommaFlag(command, &options->decimal_comma);
 }
+
+namespace {
+
+// Why a prediction is out of reach, for the one-line answer.
+std::string BeyondReachWhy(const ReachCheck& reach,
+                           const ResolvedModel& resolved) {
+  const double max_in_unit =
+      resolved.range.max_pressure_mpa / resolved.mpa_per_unit;
+  if (!std::isfinite(reach.distance_mm)) {
+    return fmt::format(
+        "not shown to lie where pressures up to the characterised {:.4g} {} "
+        "reach",
+        max_in_unit, resolved.pressure_unit);
+  }
+  return fmt::format(
+      "{:.4g} mm from the nearest position that pressures up to the "
+      "characterised {:.4g} {} reach",
+      reach.distance_mm, max_in_unit, resolved.pressure_unit);
+}
+
+}  // namespace
 
 int RunPredict(const PredictOptions& options, std::ostream& out) {
   if (options.pressures.empty() == options.input_path.empty()) {
@@ -65,8 +89,9 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
           values.size(), mechanism.name, num_actuators));
     }
     for (double p : values) {
-      if (p < 0.0) {
-        throw InputError("--pressures: pressures are gauge pressures >= 0");
+      if (const std::optional<std::string> why =
+              ImplausiblePressure(p, mpa_per_unit, unit)) {
+        throw InputError("--pressures: " + *why);
       }
     }
     rows.push_back(
@@ -90,6 +115,8 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
   int not_converged = 0;
   int outside = 0;
   std::string first_outside;
+  int beyond_reach = 0;
+  double first_beyond_reach = 0.0;
   for (const Eigen::VectorXd& row : rows) {
     const Eigen::VectorXd pressures_mpa = row * mpa_per_unit;
     // Rows are often neighbours; start from the previous solution and fall
@@ -109,13 +136,25 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
                                         x)
             : PressuresOutsideCharacterisedRange(resolved.range, pressures_mpa);
     if (beyond && outside++ == 0) first_outside = *beyond;
-    table.AddRow(row, x, summary, !beyond);
+    // Only pressures beyond the range can carry the heads out of reach.
+    const ReachCheck reach =
+        summary.converged()
+            ? ReachOfPrediction(problem, resolved.range, pressures_mpa, x)
+            : ReachCheck{false, std::numeric_limits<double>::quiet_NaN()};
+    if (summary.converged() && !reach.within && beyond_reach++ == 0) {
+      first_beyond_reach = reach.distance_mm;
+    }
+    table.AddRow(row, x, summary, !beyond, reach.within);
     if (!options.pressures.empty()) {
       out << fmt::format("{} {}, p = ({}) {}: ", mechanism.name,
                          resolved.model_name, options.pressures, unit)
           << (summary.converged() ? FormatHeadPositions(mechanism, x)
                                   : "no equilibrium found")
-          << " [" << summary.Message() << "]\n";
+          << " [" << summary.Message() << "]"
+          << (summary.converged() && !reach.within
+                  ? " BEYOND REACH: " + BeyondReachWhy(reach, resolved)
+                  : "")
+          << "\n";
     }
   }
   if (!options.output_path.empty()) {
@@ -127,6 +166,20 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
         "characterised over ({}): the model extrapolates there{}",
         outside, rows.size(), first_outside,
         options.output_path.empty() ? "" : "; their rows have in_range = 0");
+  }
+  if (beyond_reach > 0) {
+    spdlog::warn(
+        "{} of {} configurations put the heads beyond the mechanism's reach "
+        "(where no pressures up to the characterised {:.4g} {} hold them; "
+        "the first {}): the model is extrapolated past anything the bench "
+        "can show{}",
+        beyond_reach, rows.size(),
+        resolved.range.max_pressure_mpa / mpa_per_unit, unit,
+        std::isfinite(first_beyond_reach)
+            ? fmt::format("{:.4g} mm beyond it", first_beyond_reach)
+            : std::string("not shown to lie within it"),
+        options.output_path.empty() ? ""
+                                    : "; their rows have within_reach = 0");
   }
   if (not_converged > 0) {
     spdlog::warn(

@@ -128,7 +128,9 @@ namespace {
 RenderOptions SceneFromFlags(const RenderCommandOptions& flags) {
   const cv::Size size = ParseResolution(flags.resolution);
   if (!(flags.focal_35mm > 0.0)) throw InputError("--focal-35mm: must be > 0");
-  if (flags.focal_px < 0.0) throw InputError("--focal-px: must be > 0");
+  if (!(flags.focal_px >= 0.0 && flags.focal_px <= 1e6)) {
+    throw InputError("--focal-px: must be > 0 and at most 1e6 px");
+  }
   RenderOptions scene = flags.render;
   scene.intrinsics = CameraIntrinsics::FromEquivalentFocalLength(
       flags.focal_35mm, size.width, size.height);

@@ -101,6 +101,15 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
         ParseNumberList(options.hysteresis_n, "--hysteresis");
     if (h.size() != 2)
       throw InputError("--hysteresis: give 'axial,shear' in N");
+    // The sensor's range is +-100 N (the reader's max_abs_force_n).
+    for (double n : h) {
+      if (!(n >= 0.0 && n <= 100.0)) {
+        throw InputError(fmt::format(
+            "--hysteresis: {} N is not a force hysteresis; give two forces "
+            "from 0 to 100 N (the sensor's range)",
+            n));
+      }
+    }
     logs.synthetic.hysteresis_axial_n = h[0];
     logs.synthetic.hysteresis_shear_n = h[1];
   }

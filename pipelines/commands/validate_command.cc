@@ -65,6 +65,11 @@ std::string SummaryText(const VideoValidation& v) {
   for (const std::string& test : NotMeasured(r)) {
     text += fmt::format("  not measured: {}\n", test);
   }
+  for (const TestScore& t : r.tests) {
+    if (t.measured && !t.predicted) {
+      text += fmt::format("  no prediction: {} ({})\n", t.id, t.reason);
+    }
+  }
   if (!r.mismatched.empty()) {
     text += fmt::format(
         "  not scored, their motion does not fit their plan entries: {}\n",

@@ -35,13 +35,23 @@ namespace {
 
 // The number of --step intervals up to --max, checked: a whole number, and
 // not so many configurations that the map would not finish.
-int CheckedIntervals(const WorkspaceCommandOptions& options,
-                     int num_actuators) {
+constexpr double kMaxReachChecks = 2e5;
+
+int CheckedIntervals(const WorkspaceCommandOptions& options, int num_actuators,
+                     double mpa_per_unit, std::string_view pressure_unit,
+                     double max_in_range) {
   if (!(options.step > 0.0) || !std::isfinite(options.step)) {
     throw InputError("--step: must be a number > 0");
   }
-  if (!(options.max_pressure >= 0.0) || !std::isfinite(options.max_pressure)) {
-    throw InputError("--max: must be a number >= 0");
+  if (const std::optional<std::string> why = ImplausiblePressure(
+          options.max_pressure, mpa_per_unit, pressure_unit)) {
+    throw InputError("--max: " + *why);
+  }
+  if (options.step > options.max_pressure && options.max_pressure > 0.0) {
+    throw InputError(fmt::format(
+        "--step {} is larger than --max {}; choose a step that divides the "
+        "range",
+        options.step, options.max_pressure));
   }
   const double intervals = options.max_pressure / options.step;
   const long long num_intervals = std::llround(intervals);
@@ -59,6 +69,22 @@ int CheckedIntervals(const WorkspaceCommandOptions& options,
         "a coarser step",
         num_intervals + 1, num_actuators, count));
   }
+  // Each configuration beyond the characterised pressures also costs a
+  // reach check (a bounded inverse solve, about 1 ms): refused before any
+  // work when they would take minutes.
+  const double levels_in_range =
+      std::floor(max_in_range / options.step * (1.0 + 1e-9)) + 1.0;
+  const double beyond =
+      count -
+      std::pow(std::min(levels_in_range, num_intervals + 1.0), num_actuators);
+  if (beyond > kMaxReachChecks) {
+    throw InputError(fmt::format(
+        "--max: {:.3g} of the {:.3g} configurations lie beyond the "
+        "characterised {:.4g} {}, and each needs a reach check (about 1 ms); "
+        "keep --max within the characterised range or use a coarser --step "
+        "(at most {:.0e} such configurations)",
+        beyond, count, max_in_range, pressure_unit, kMaxReachChecks));
+  }
   return static_cast<int>(num_intervals);
 }
 
@@ -71,7 +97,9 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
     CheckOutputFile(options.output_path, "--out");
   }
   const int num_actuators = resolved.mechanism.NumActuators();
-  const int num_intervals = CheckedIntervals(options, num_actuators);
+  const int num_intervals = CheckedIntervals(
+      options, num_actuators, resolved.mpa_per_unit, resolved.pressure_unit,
+      resolved.range.max_pressure_mpa / resolved.mpa_per_unit);
   WorkspaceOptions workspace_options;
   workspace_options.num_threads = options.threads;
   // Levels in the user's unit, written back as given (no MPa round trip).
@@ -96,7 +124,8 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
         pressures[k] = levels[rest % radix];
       }
       table.AddRow(pressures, map.displacements_mm.row(i).transpose(),
-                   map.summaries[i], map.in_range[i] != 0);
+                   map.summaries[i], map.in_range[i] != 0,
+                   map.within_reach[i] != 0);
     }
     WriteCommandOutput(options.output_path, table.text(), out);
   }
@@ -127,6 +156,16 @@ int RunWorkspace(const WorkspaceCommandOptions& options, std::ostream& out) {
         "characterised over (first: {}): the model extrapolates there, and "
         "the extents include them; rows with in_range = 0",
         map.num_outside_range, first_outside);
+  }
+  if (map.num_beyond_reach > 0) {
+    spdlog::warn(
+        "{} configurations put the heads beyond the mechanism's reach (where "
+        "no pressures up to the characterised {:.4g} {} hold them): the "
+        "extents include them, but the bench cannot show them; rows with "
+        "within_reach = 0",
+        map.num_beyond_reach,
+        resolved.range.max_pressure_mpa / resolved.mpa_per_unit,
+        resolved.pressure_unit);
   }
   if (map.num_not_converged > 0) {
     spdlog::warn(

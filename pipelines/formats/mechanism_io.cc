@@ -158,7 +158,9 @@ Mechanism LoadMechanism(const std::string& name_or_path) {
   // The error_code form: a name the file system refuses (too long, say) is
   // the same user error as a missing file, not an exception of its own.
   std::error_code error;
-  if (!std::filesystem::is_regular_file(name_or_path, error)) {
+  // Something that exists but is no regular file (a folder, a device) is
+  // named for what it is by ReadTextFile's check.
+  if (!std::filesystem::exists(name_or_path, error)) {
     throw InputError("mechanism '" + name_or_path +
                      "': no such mechanism; give " + names +
                      "or the path of a mechanism YAML file");

@@ -11,10 +11,13 @@ namespace softbench {
 
 // The CSV written by `predict` and `workspace` (README, command-line
 // contract): p1_UNIT..pN_UNIT, then y1_mm,z1_mm per head in the mechanism's
-// head order, then converged (0/1), residual_n and in_range (0 where a
+// head order, then converged (0/1), residual_n, in_range (0 where a
 // pressure or an actuator's deformation lies beyond the range the constants
-// were characterised over: the model extrapolates there). Positions of a
-// configuration that did not converge are written as nan, never as numbers.
+// were characterised over: the model extrapolates there) and within_reach
+// (0 where the predicted position lies beyond every position that pressures
+// in the characterised range reach, or could not be shown to lie within it).
+// Positions of a configuration that did not converge are written as nan,
+// never as numbers.
 class PredictionTable {
  public:
   // `pressure_unit` names the pressure columns' unit (p1_psi).
@@ -23,7 +26,8 @@ class PredictionTable {
   // Pressures are written in the caller's unit, as given.
   void AddRow(const Eigen::VectorXd& pressures_in_unit,
               const Eigen::VectorXd& displacements_mm,
-              const EquilibriumSummary& summary, bool in_range);
+              const EquilibriumSummary& summary, bool in_range,
+              bool within_reach);
   const std::string& text() const { return text_; }
 
  private:

@@ -76,16 +76,16 @@ PressureColumns FindPressureColumns(const CsvReader& reader, int n) {
   return columns;
 }
 
-double ReadPressure(const CsvReader& reader, std::string_view field, int a) {
+double ReadPressure(const CsvReader& reader, std::string_view field, int a,
+                    double mpa_per_unit, std::string_view unit) {
   const std::optional<double> value = ParseDouble(field);
   if (!value || !std::isfinite(*value)) {
     throw InputError(fmt::format("{}column p{}: '{}' is not a number",
                                  reader.Where(), a, field));
   }
-  if (*value < 0.0) {
-    throw InputError(fmt::format(
-        "{}column p{}: {} is negative; pressures are gauge pressures >= 0",
-        reader.Where(), a, *value));
+  if (const std::optional<std::string> why =
+          ImplausiblePressure(*value, mpa_per_unit, unit)) {
+    throw InputError(fmt::format("{}column p{}: {}", reader.Where(), a, *why));
   }
   return *value;
 }
@@ -114,6 +114,8 @@ PressureRows ReadPressureRows(const std::string& path,
   }
   result.mpa_per_unit = *mpa_per_unit;
   const double to_unit = *file_mpa_per_unit / *mpa_per_unit;
+  const std::string_view file_unit =
+      columns.unit.empty() ? result.unit : columns.unit;
   const int time_column = reader.ColumnIndex("time_s");
   if (options.with_times && time_column < 0) {
     throw InputError(path +
@@ -138,8 +140,9 @@ PressureRows ReadPressureRows(const std::string& path,
     }
     Eigen::VectorXd pressures(options.num_actuators);
     for (int a = 0; a < options.num_actuators; ++a) {
-      pressures[a] =
-          ReadPressure(reader, fields[columns.indices[a]], a + 1) * to_unit;
+      pressures[a] = ReadPressure(reader, fields[columns.indices[a]], a + 1,
+                                  *file_mpa_per_unit, file_unit) *
+                     to_unit;
     }
     result.rows.push_back(pressures);
   }

@@ -63,6 +63,15 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
   CalibrationSpec& c = plan->calibration;
   if (const YAML::Node focal = node["focal_length_35mm"]) {
     c.focal_length_35mm = Positive(reader, focal, "focal_length_35mm");
+    // From a fisheye's 8 mm to a long telephoto's 2000 mm (35 mm film
+    // equivalent); anything else is a typo or the sensor's real focal length.
+    if (c.focal_length_35mm < 8.0 || c.focal_length_35mm > 2000.0) {
+      reader.Fail(focal, "focal_length_35mm",
+                  fmt::format("{} mm is no camera's 35 mm-equivalent focal "
+                              "length; give it between 8 and 2000 mm (an "
+                              "iPhone's main camera: 26)",
+                              c.focal_length_35mm));
+    }
   }
   if (const YAML::Node scale = node["mm_per_px"]) {
     c.mm_per_px = Positive(reader, scale, "mm_per_px");
@@ -252,7 +261,11 @@ void ParseTests(const YamlReader& reader, const YAML::Node& node,
     }
     test.pressures.resize(n);
     for (int k = 0; k < n; ++k) {
-      test.pressures[k] = NonNegative(reader, pressures[k], "pressures");
+      test.pressures[k] = reader.Number(pressures[k], "pressures");
+      if (const std::optional<std::string> why = ImplausiblePressure(
+              test.pressures[k], plan->mpa_per_unit, plan->pressure_unit)) {
+        reader.Fail(pressures[k], "pressures", *why);
+      }
     }
     const YAML::Node actuate = entry["actuate_s"];
     const YAML::Node release = entry["release_s"];

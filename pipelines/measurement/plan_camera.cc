@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <numbers>
 #include <set>
 
@@ -32,8 +33,10 @@ std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
   // The tag stays put: after the first frame that shows it, only the region
   // around it (grown by half its size) is searched, ten times faster.
   cv::Rect region;
+  int damaged = 0;
   while (frames < tag_frames && reader.Read(&frame)) {
     ++frames;
+    if (frame.damaged) ++damaged;
     const cv::Mat luma = region.empty() ? frame.luma : frame.luma(region);
     for (TagDetection d : detector.Detect(luma)) {
       for (Eigen::Vector2d& corner : d.corners) {
@@ -57,6 +60,14 @@ std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
     if (!other_ids.empty()) {
       seen = "tag id(s)";
       for (int id : other_ids) seen += fmt::format(" {}", id);
+    }
+    if (damaged > 0) {
+      // Damaged frames hide the tag: that is the cause to name.
+      throw InputError(fmt::format(
+          "{}: {} of the first {} frames are damaged (the decoder reported "
+          "errors in the video data), and no tag {} was found in them; "
+          "re-copy or re-export the video",
+          path, damaged, frames, tag.id));
     }
     throw InputError(fmt::format(
         "{}: found {} in the first {} frames, but the plan's calibration.tag "
@@ -120,11 +131,29 @@ PlaneMapping PlanMapping(
     // A plane at or beyond the camera maps pixels to numbers that mean
     // nothing (the homography turns them through infinity).
     const double camera_height_mm = mapping.CameraHeightMm();
-    if (!(c.plane_offset_mm < camera_height_mm)) {
+    // A camera nearer the tag than its own size would see it fill the
+    // frame; one that does not is placed there by a wrong focal length.
+    if (!(camera_height_mm > c.tag->size_mm)) {
       throw InputError(fmt::format(
-          "{}: calibration.plane_offset_mm: {} mm puts the dots' plane at "
-          "or behind the camera, which the tag in {} places {:.0f} mm above "
-          "the tag; give the dots' height above the tag's plane",
+          "{}: {}: with it, the {} mm tag in {} puts the camera {:.3g} mm "
+          "from the tag, nearer than the tag is wide; {}",
+          plan.path,
+          c.intrinsics_path.empty()
+              ? fmt::format("calibration.focal_length_35mm {} mm",
+                            c.focal_length_35mm)
+              : "calibration.intrinsics " + c.intrinsics_path,
+          c.tag->size_mm, video_path, camera_height_mm,
+          c.intrinsics_path.empty()
+              ? "give the camera's 35 mm-equivalent focal length (an "
+                "iPhone's main camera: 26 mm)"
+              : "calibrate the camera again (softbench calibrate-camera)"));
+    }
+    if (!(std::abs(c.plane_offset_mm) < camera_height_mm)) {
+      throw InputError(fmt::format(
+          "{}: calibration.plane_offset_mm: {} mm puts the dots' plane "
+          "farther from the tag than the camera, which the tag in {} places "
+          "{:.0f} mm above it; give the dots' height above the tag's plane "
+          "(negative below it)",
           plan.path, c.plane_offset_mm, video_path, camera_height_mm));
     }
     return mapping;

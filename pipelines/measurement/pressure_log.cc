@@ -11,6 +11,13 @@
 #include "util/statistics.h"
 
 namespace softbench {
+namespace {
+
+// How far a hold's logged length may be from the motion's (a regulator that
+// is slow to vent stretches a hold, but not threefold).
+constexpr double kMaxHoldDurationRatio = 3.0;
+
+}  // namespace
 
 std::vector<PressureHold> PressureLogHolds(
     const std::vector<double>& times_s,
@@ -72,12 +79,37 @@ std::vector<PressureHold> PlanPressureHolds(const TestPlan& plan,
 }
 
 PressureLogAlignment AlignPressureLog(const std::vector<PressureHold>& holds,
-                                      const TestPointDetection& detection) {
-  std::vector<double> offsets;
+                                      const TestPointDetection& detection,
+                                      const std::string& log_path) {
+  std::vector<double> offsets, duration_ratios;
   const size_t n = std::min(holds.size(), detection.points.size());
   for (size_t i = 0; i < n; ++i) {
     offsets.push_back(detection.points[i].actuate_s - holds[i].start_s);
     offsets.push_back(detection.points[i].release_s - holds[i].end_s);
+    const double seen_s =
+        detection.points[i].release_s - detection.points[i].actuate_s;
+    if (seen_s > 0.0) {
+      duration_ratios.push_back((holds[i].end_s - holds[i].start_s) / seen_s);
+    }
+  }
+  // The log's clock must tick in seconds: holds that last a thousand times
+  // the motion's are a clock in milliseconds, and an offset fitted to them
+  // would put every window at a time the video does not have.
+  if (!duration_ratios.empty()) {
+    const double ratio = Median(duration_ratios);
+    if (!(ratio > 1.0 / kMaxHoldDurationRatio &&
+          ratio < kMaxHoldDurationRatio)) {
+      throw InputError(fmt::format(
+          "{}: the log's holds last {:.4g} times as long as the heads' "
+          "motion shows (median over {} test points){}; time_s must be in "
+          "seconds",
+          log_path, ratio, duration_ratios.size(),
+          std::abs(ratio / 1000.0 - 1.0) < 0.2
+              ? ": its clock is in milliseconds, so divide it by 1000"
+          : std::abs(ratio * 1000.0 - 1.0) < 0.2
+              ? ": its clock is in thousands of seconds"
+              : ""));
+    }
   }
   PressureLogAlignment alignment;
   if (offsets.empty()) return alignment;

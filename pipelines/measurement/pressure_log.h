@@ -41,8 +41,12 @@ std::vector<PressureHold> PlanPressureHolds(const TestPlan& plan,
                                             const std::string& path,
                                             DecimalMark decimal_mark);
 
+// Throws InputError naming `log_path` when the holds last several times as
+// long (or as short) as the motion's test points: a clock in other units
+// than seconds.
 PressureLogAlignment AlignPressureLog(const std::vector<PressureHold>& holds,
-                                      const TestPointDetection& detection);
+                                      const TestPointDetection& detection,
+                                      const std::string& log_path);
 
 }  // namespace softbench
 

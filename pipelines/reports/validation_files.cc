@@ -87,7 +87,8 @@ std::string ResultsCsv(const VideoValidation& v) {
       ",initial_y_mm,initial_z_mm,actuated_y_mm,actuated_z_mm,final_y_mm,"
       "final_z_mm,measured_dy_mm,measured_dz_mm,model_dy_mm,model_dz_mm,"
       "model_error_mm,baseline_dy_mm,baseline_dz_mm,baseline_error_mm,"
-      "hysteresis_mm,hysteresis_ok,in_range,status,reason,uncertainty_mm,"
+      "hysteresis_mm,hysteresis_ok,in_range,within_reach,status,reason,"
+      "uncertainty_mm,"
       "frames_initial,frames_actuated,frames_final" +
       ProvenanceHeader() + "\n";
   for (const TestScore& t : r.tests) {
@@ -112,8 +113,11 @@ std::string ResultsCsv(const VideoValidation& v) {
       csv += "," + scored(s.model_error_mm) + "," +
              FormatMm(s.baseline_mm.x()) + "," + FormatMm(s.baseline_mm.y()) +
              "," + scored(s.baseline_error_mm) + "," + scored(s.hysteresis_mm) +
-             "," + (t.scored() ? (s.hysteresis_ok ? "1" : "0") : "") + "," +
-             (t.outside_range.empty() ? "1" : "0") + "," + CsvField(t.status) +
+             "," +
+             (t.scored() && s.hysteresis_judged ? (s.hysteresis_ok ? "1" : "0")
+                                                : "") +
+             "," + (t.outside_range.empty() ? "1" : "0") + "," +
+             (t.beyond_reach.empty() ? "1" : "0") + "," + CsvField(t.status) +
              "," + CsvField(t.reason) + "," + scored(s.uncertainty_mm);
       for (const WindowSummary& w : t.windows) {
         csv +=
@@ -128,7 +132,7 @@ std::string ResultsCsv(const VideoValidation& v) {
     for (const Head& head : plan.mechanism.heads) {
       csv += CsvField(t.id) + "," + CsvField(head.name);
       for (double p : t.pressures) csv += fmt::format(",{:g}", p);
-      csv += std::string(17, ',') +  // 17 empty cells
+      csv += std::string(18, ',') +  // 18 empty cells
              ",skipped,skipped on the bench (the plan says so),,,," +
              provenance + "\n";
     }
@@ -198,7 +202,11 @@ json SummaryJson(const VideoValidation& v) {
     root["skipped_tests"].push_back(t.id);
   }
   for (const TestScore& t : r.tests) {
-    json test = {{"id", t.id}, {"status", t.status}, {"reason", t.reason}};
+    json test = {{"id", t.id},
+                 {"status", t.status},
+                 {"reason", t.reason},
+                 {"within_reach", t.beyond_reach.empty()}};
+    if (!t.beyond_reach.empty()) test["beyond_reach"] = t.beyond_reach;
     for (int k = 0; k < 3; ++k) {
       const WindowSummary& w = t.windows[k];
       json window = {{"start_s", w.start_s},

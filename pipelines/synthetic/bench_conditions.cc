@@ -29,7 +29,9 @@ std::optional<std::string> BenchConditionsOptions::Check() const {
   if (!(white_balance_drift_k >= 0.0 && white_balance_drift_k <= 1500.0)) {
     return "white-balance drift must be 0..1500 K";
   }
-  if (!(drift_period_s > 0.0)) return "drift period must be > 0 s";
+  if (!(drift_period_s > 0.0 && drift_period_s <= 86400.0)) {
+    return "drift period must be > 0 s and at most a day";
+  }
   if (!(tag_gone_after_s >= 0.0))
     return "the tag's removal time must be >= 0 s";
   return std::nullopt;

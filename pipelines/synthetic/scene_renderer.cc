@@ -87,14 +87,20 @@ cv::Vec3f MarkerColorBgr(const std::string& name) {
 
 std::optional<std::string> RenderOptions::Check() const {
   if (auto problem = intrinsics.Check()) return problem;
-  if (!(distance_mm > 50.0)) return "camera distance must be > 50 mm";
+  if (!(distance_mm > 50.0 && distance_mm <= 10000.0)) {
+    return "camera distance must be > 50 mm and at most 10 m";
+  }
   if (std::abs(tilt_x_deg) > 30.0 || std::abs(tilt_y_deg) > 30.0) {
     return "tilt must be within +-30 deg";
   }
   if (supersampling < 1 || supersampling > 64) {
     return "supersampling must be 1..64";
   }
-  if (noise_sigma_dn < 0.0 || shot_noise_dn < 0.0) return "noise must be >= 0";
+  // Noise in 8-bit codes: beyond the code range it is no longer a picture.
+  if (!(noise_sigma_dn >= 0.0 && noise_sigma_dn <= 255.0) ||
+      !(shot_noise_dn >= 0.0 && shot_noise_dn <= 255.0)) {
+    return "noise must be 0..255 codes";
+  }
   if (!(exposure_s >= 0.0)) return "exposure must be >= 0";
   return std::nullopt;
 }

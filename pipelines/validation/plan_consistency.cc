@@ -54,7 +54,7 @@ std::vector<std::string> CheckPlanConsistency(const ValidationOptions& options,
   std::vector<std::string> ids;
   for (size_t i = 0; i < tests->size(); ++i) {
     TestScore& test = (*tests)[i];
-    if (!test.measured) continue;
+    if (!test.measured || !test.predicted) continue;
     const double own = Distance(test, test);
     const bool gross =
         own > std::max(options.mismatch_min_mm,

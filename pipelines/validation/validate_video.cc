@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
+#include <exception>
 #include <future>
 #include <iterator>
 
@@ -46,12 +48,16 @@ std::string TimesFromVideo(const VideoMeasurement& m,
       DetectTestPoints(m, static_cast<int>(plan->tests.size()), options);
   if (!detection.found) {
     const size_t lost = m.damaged_frames + m.lost_frame_times_s.size();
+    // Damaged frames make motion where there was none, or hide it: named
+    // first, as the cause.
     throw InputError(
-        m.video_path + ": " + detection.why_not +
-        (lost == 0 ? ""
-                   : fmt::format(" ({} frames were lost to damaged video "
-                                 "data: re-copy or re-export the video)",
-                                 lost)));
+        lost == 0
+            ? m.video_path + ": " + detection.why_not
+            : fmt::format("{}: {} frames were lost to damaged video data, so "
+                          "the test points cannot be told from the motion "
+                          "({}); re-copy or re-export the video, or give the "
+                          "tests' actuate_s and release_s",
+                          m.video_path, lost, detection.why_not));
   }
   if (!log) {
     for (size_t i = 0; i < plan->tests.size(); ++i) {
@@ -62,7 +68,7 @@ std::string TimesFromVideo(const VideoMeasurement& m,
                        detection.threshold_mm);
   }
   const PressureLogAlignment alignment =
-      AlignPressureLog(log->holds, detection);
+      AlignPressureLog(log->holds, detection, log->path);
   for (size_t i = 0; i < plan->tests.size(); ++i) {
     plan->tests[i].actuate_s = log->holds[i].start_s + alignment.offset_s;
     plan->tests[i].release_s = log->holds[i].end_s + alignment.offset_s;
@@ -113,14 +119,27 @@ VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
   }
   if (times_known) CheckWindowsFitTheTimes(plan);
   // The record of the inputs, hashed on a thread of its own while the
-  // video is read (a gigabyte takes about a second).
-  std::future<std::vector<InputFile>> inputs =
-      std::async(std::launch::async,
-                 [files = InputFiles(plan, video_path, log)]() mutable {
-                   for (InputFile& file : files)
-                     file.sha256 = Sha256OfFile(file.path);
-                   return files;
-                 });
+  // video is read (a gigabyte takes about a second). When the measurement
+  // fails, the hashing is told to stop before its future is waited for, so
+  // the error is not held up by reading the rest of a large file.
+  std::atomic<bool> stop_hashing{false};
+  std::future<std::vector<InputFile>> inputs = std::async(
+      std::launch::async,
+      [files = InputFiles(plan, video_path, log), &stop_hashing]() mutable {
+        for (InputFile& file : files) {
+          std::optional<std::string> digest =
+              Sha256OfFile(file.path, &stop_hashing);
+          if (!digest) break;
+          file.sha256 = std::move(*digest);
+        }
+        return files;
+      });
+  const struct StopHashingOnFailure {
+    std::atomic<bool>* stop;
+    ~StopHashingOnFailure() {
+      if (std::uncaught_exceptions() > 0) stop->store(true);
+    }
+  } stop_on_failure{&stop_hashing};
   VideoReader reader(video_path,
                      MeasurementReaderOptions(!options.windows_only));
   VideoMeasurement m = MeasureVideo(

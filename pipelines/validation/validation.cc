@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "model/equilibrium.h"
+#include "model/inverse.h"
 #include "pipelines/validation/plan_consistency.h"
 #include "util/check.h"
 #include "util/statistics.h"
@@ -319,6 +320,34 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
           .value_or("");
   const Eigen::VectorXd spring =
       Predict(EquilibriumProblem(plan.mechanism, baseline), pressures_mpa);
+  score->predicted = model.allFinite() && spring.allFinite();
+  if (model.allFinite()) {
+    const ReachCheck reach =
+        ReachOfPrediction(problem, plan.range, pressures_mpa, model);
+    if (!reach.within) {
+      score->beyond_reach =
+          std::isfinite(reach.distance_mm)
+              ? fmt::format(
+                    "the model puts the heads {:.4g} mm beyond where "
+                    "pressures up to the characterised {:.4g} {} "
+                    "reach",
+                    reach.distance_mm,
+                    plan.range.max_pressure_mpa / plan.mpa_per_unit,
+                    plan.pressure_unit)
+              : fmt::format(
+                    "the model's heads could not be shown to lie "
+                    "where pressures up to the characterised {:.4g} "
+                    "{} reach",
+                    plan.range.max_pressure_mpa / plan.mpa_per_unit,
+                    plan.pressure_unit);
+    }
+  }
+  // A final window that starts less than half a window after the release
+  // (a video that ends during the hold or just after it) sees the hold or a
+  // head still moving back: its hysteresis is not judged.
+  const double rest_s = score->windows[kFinalWindow].end_s -
+                        score->windows[kActuatedWindow].end_s;
+  const bool final_settled = rest_s >= 1.5 * plan.window_s;
   bool hysteresis_ok = true;
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     HeadScore& head = score->heads.emplace_back();
@@ -331,15 +360,29 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
     head.baseline_error_mm = (head.measured_mm - head.baseline_mm).norm();
     head.hysteresis_mm =
         (score->windows[kFinalWindow].median_mm[h] - initial).norm();
+    head.hysteresis_judged = final_settled;
     head.hysteresis_ok = head.hysteresis_mm <= plan.hysteresis_tolerance_mm;
-    hysteresis_ok &= head.hysteresis_ok;
+    if (final_settled) hysteresis_ok &= head.hysteresis_ok;
     head.uncertainty_mm =
         std::sqrt(MedianVariance(score->windows[kInitialWindow], h) +
                   MedianVariance(score->windows[kActuatedWindow], h));
   }
-  score->status = !score->measured ? "not measured"
-                  : hysteresis_ok  ? "ok"
-                                   : "hysteresis";
+  score->status = !score->measured    ? "not measured"
+                  : !score->predicted ? "no prediction"
+                  : hysteresis_ok     ? "ok"
+                                      : "hysteresis";
+  if (score->measured && !score->predicted) {
+    score->reason = fmt::format(
+        "the {} finds no equilibrium at these pressures, so there is "
+        "nothing to score against; check the test's pressures and the "
+        "constants",
+        model.allFinite() ? "pressurized-spring baseline" : "model");
+  } else if (score->measured && !final_settled) {
+    score->reason = fmt::format(
+        "hysteresis not judged: the final window ends {:.2f} s after the "
+        "release, too soon for the head to have settled (the video ends)",
+        rest_s);
+  }
 }
 
 // Per head, the error statistics of the model and the baseline over the
@@ -492,6 +535,12 @@ ValidationResult ScoreTests(const TestPlan& plan,
   WarnAboutDamage(measurement, &result);
   WarnAboutSettling(plan, &result);
   for (const TestScore& score : result.tests) {
+    if (!score.beyond_reach.empty()) {
+      result.warnings.push_back(fmt::format(
+          "{}: {}; the bench cannot show this prediction, and its error "
+          "says nothing about the constants",
+          score.id, score.beyond_reach));
+    }
     if (!score.outside_range.empty()) {
       result.warnings.push_back(
           fmt::format("{}: the model extrapolates here ({}); its error says "

@@ -78,6 +78,10 @@ struct HeadScore {
   double baseline_error_mm = NAN;
   double hysteresis_mm = NAN;  // |final - initial|
   bool hysteresis_ok = false;
+  // False when the final window came too soon after the release for the
+  // head to settle (a video that ends during the rest): hysteresis_mm is
+  // then no evidence either way, and hysteresis_ok is not a verdict.
+  bool hysteresis_judged = true;
   // Standard uncertainty of measured_mm [mm] from the windows' own scatter:
   // each window median's standard error (1.2533 x spread / sqrt(frames),
   // per axis) for actuated and initial, in quadrature over both axes. A
@@ -93,15 +97,23 @@ struct TestScore {
   bool measured = false;  // every window measured for every head
   // The motion fits the test's own plan entry (plan_consistency.h).
   bool matches_plan = true;
-  // "ok", "hysteresis", "not measured", "mismatch"
+  // The model and the baseline both found an equilibrium at the test's
+  // pressures: without one there is nothing to score against.
+  bool predicted = true;
+  // "ok", "hysteresis", "not measured", "mismatch", "no prediction"
   std::string status;
-  std::string reason;  // why not measured or not scored
+  // Why not measured, not scored, or why its hysteresis is not judged.
+  std::string reason;
   // Why the model extrapolates at this test (beyond the constants'
   // characterised range), or empty.
   std::string outside_range;
+  // Why the model's prediction lies beyond the mechanism's reach (no
+  // pressures in the characterised range put the heads there), or empty.
+  std::string beyond_reach;
 
-  // Measured and matched to its plan entry: counted in the statistics.
-  bool scored() const { return measured && matches_plan; }
+  // Measured, matched to its plan entry and predicted: counted in the
+  // statistics.
+  bool scored() const { return measured && matches_plan && predicted; }
 };
 
 // Error statistics of one model for one head over the measured tests [mm].

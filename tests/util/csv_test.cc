@@ -115,6 +115,10 @@ TEST(CsvReader, ReadsTheDialectsSpreadsheetsWrite) {
       {"semicolon.csv", "p1;p2\n1.5;2\n", ';'},
       {"tab.csv", "p1\tp2\n1.5\t2\n", '\t'},
       {"excel.csv", "\xEF\xBB\xBF\"p1\";\"p2\"\r\n1.5;\"2\"\r\n", ';'},
+      // Old Mac OS line ends (CR only), as some lab software still writes
+      // (issue 30: read as one line, they were "column p3 is missing").
+      {"mac.csv", "p1,p2\r1.5,2\r", ','},
+      {"mac_no_end.csv", "p1,p2\r# note\r1.5,2", ','},
   };
   for (const auto& dialect : dialects) {
     CsvReader reader(

@@ -44,5 +44,24 @@ TEST(Sha256OfFile, NamesAFileItCannotRead) {
   }
 }
 
+// A device would be read forever (issue 30: validate /dev/zero hung).
+TEST(Sha256OfFile, RefusesADevice) {
+  try {
+    Sha256OfFile("/dev/zero");
+    FAIL() << "hashed a device";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero: is a device"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// Once the work it runs beside has failed, a large file is not read on.
+TEST(Sha256OfFile, StopsWhenAsked) {
+  const std::atomic<bool> stop{true};
+  EXPECT_EQ(Sha256OfFile(WriteFile("softbench_sha_stop", "abc"), &stop),
+            std::nullopt);
+}
+
 }  // namespace
 }  // namespace softbench

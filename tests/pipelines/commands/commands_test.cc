@@ -49,10 +49,11 @@ TEST_F(CommandsTest, PredictWritesTheContractColumnsInInputOrder) {
   ASSERT_EQ(RunPredict(options, out), 0);
 
   CsvReader reader(options.output_path);
-  EXPECT_EQ(reader.header(), (std::vector<std::string>{
-                                 "p1_psi", "p2_psi", "p3_psi", "p4_psi",
-                                 "p5_psi", "y1_mm", "z1_mm", "y2_mm", "z2_mm",
-                                 "converged", "residual_n", "in_range"}));
+  EXPECT_EQ(reader.header(),
+            (std::vector<std::string>{"p1_psi", "p2_psi", "p3_psi", "p4_psi",
+                                      "p5_psi", "y1_mm", "z1_mm", "y2_mm",
+                                      "z2_mm", "converged", "residual_n",
+                                      "in_range", "within_reach"}));
   const EquilibriumProblem problem(testing::FloatingMechanism(),
                                    ForceModel::SmallAngle({}));
   EquilibriumSolver solver(problem);
@@ -119,7 +120,7 @@ TEST_F(CommandsTest, PredictRejectsBadRowsAndWritesNothing) {
                 .find("in.csv:3: column p2: 'x' is not a number"),
             std::string::npos);
   EXPECT_NE(PredictError("p1,p2,p3\n1,2,-3\n")
-                .find("in.csv:2: column p3: -3 "
+                .find("in.csv:2: column p3: -3 psi "
                       "is negative"),
             std::string::npos);
   EXPECT_NE(PredictError("p1,p2,p3\n1,2,nan\n").find("'nan' is not a number"),
@@ -210,23 +211,32 @@ TEST_F(CommandsTest, PredictMarksWhatLiesBeyondTheCharacterisedRange) {
       "shear_area_factor_mm2_per_rad: 105.2\n"
       "linear_stiffness_n_per_mm: 2.71\n"
       "torsional_factor_n_per_rad: 19.31\n";
-  const auto in_range = [&](const std::string& constants) {
+  const auto flags_in = [&](const std::string& constants,
+                            const std::string& column) {
     PredictOptions options;
     options.model.constants_path = Write("c.yaml", thesis + constants);
     options.input_path =
-        Write("in.csv", "p1_psi,p2_psi,p3_psi\n6,6,0\n60,0,0\n1e300,0,0\n");
+        Write("in.csv", "p1_psi,p2_psi,p3_psi\n6,6,0\n60,0,0\n14000,0,0\n");
     options.output_path = Path("out.csv");
     std::ostringstream out;
     EXPECT_EQ(RunPredict(options, out), 0);
     CsvReader reader(options.output_path);
     std::vector<std::string> flags;
     std::vector<std::string_view> fields;
-    while (reader.ReadRow(&fields)) flags.emplace_back(fields.back());
+    while (reader.ReadRow(&fields)) {
+      flags.emplace_back(fields[reader.ColumnIndex(column)]);
+    }
     return flags;
   };
-  // 60 psi is beyond the thesis's 6 psi; 6,6,0 stays inside; 1e300 psi
-  // has no equilibrium and is beyond the range all the same.
+  const auto in_range = [&](const std::string& constants) {
+    return flags_in(constants, "in_range");
+  };
+  // 60 and 14,000 psi are beyond the thesis's 6 psi; 6,6,0 stays inside.
   EXPECT_EQ(in_range(""), (std::vector<std::string>{"1", "0", "0"}));
+  // 60 psi also carries the head where no pressure up to 6 psi puts it
+  // (issue 30: shown as fine).
+  EXPECT_EQ(flags_in("", "within_reach"),
+            (std::vector<std::string>{"1", "0", "0"}));
   // A lower pressure limit, and a stretch limit below what 6,6,0 needs.
   EXPECT_EQ(in_range("characterised_max_pressure_mpa: 0.02\n"),
             (std::vector<std::string>{"0", "0", "0"}));

@@ -424,7 +424,7 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
   EXPECT_EQ(statuses, (std::vector<std::string>{"ok", "hysteresis", "ok"}));
   // Every row carries its provenance: version, unit, each input's SHA-256.
   CsvReader again(Path("report/results.csv"));
-  const std::string video_sha256 = Sha256OfFile(options.video_paths[0]);
+  const std::string video_sha256 = *Sha256OfFile(options.video_paths[0]);
   ASSERT_TRUE(again.ReadRow(&fields));
   EXPECT_EQ(fields[again.ColumnIndex("softbench_version")], SoftbenchVersion());
   EXPECT_EQ(fields[again.ColumnIndex("pressure_unit")], "psi");
@@ -669,7 +669,27 @@ TEST_F(ValidateCommandTest, RefusesADotPlaneBehindTheCamera) {
   const std::string message =
       ErrorWithEditedDeltaPlan("plane_offset_mm: 16", "plane_offset_mm: 16000");
   EXPECT_NE(message.find("plan.yaml: calibration.plane_offset_mm: 16000 mm "
-                         "puts the dots' plane at or behind the camera"),
+                         "puts the dots' plane farther from the tag than the "
+                         "camera"),
+            std::string::npos)
+      << message;
+  // Far below the tag is as impossible, and was blamed on the first frame's
+  // dots (issue 30).
+  const std::string below =
+      ErrorWithEditedDeltaPlan("plane_offset_mm: 16", "plane_offset_mm: -1e6");
+  EXPECT_NE(below.find("calibration.plane_offset_mm: -1000000 mm puts the "
+                       "dots' plane farther from the tag than the camera"),
+            std::string::npos)
+      << below;
+}
+
+// A focal length no camera has is named under its own key, not blamed on
+// plane_offset_mm or the first frame (issue 30).
+TEST_F(ValidateCommandTest, NamesAnImpossibleFocalLengthUnderItsKey) {
+  const std::string message = ErrorWithEditedDeltaPlan(
+      "plane_offset_mm: 16", "plane_offset_mm: 16\n  focal_length_35mm: 1");
+  EXPECT_NE(message.find("focal_length_35mm: 1 mm is no camera's 35 "
+                         "mm-equivalent focal length"),
             std::string::npos)
       << message;
 }

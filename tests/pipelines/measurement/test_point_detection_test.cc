@@ -5,6 +5,9 @@
 #include <cmath>
 #include <random>
 
+#include "pipelines/measurement/pressure_log.h"
+#include "util/input_error.h"
+
 namespace softbench {
 namespace {
 
@@ -100,6 +103,36 @@ TEST(TestPointDetection, SplitsTestPointsJoinedByASlip) {
   EXPECT_NEAR(d.points[0].release_s, 7.0, 0.04);
   EXPECT_NEAR(d.points[1].actuate_s, 10.0, 0.04);
   EXPECT_NEAR(d.points[1].release_s, 15.0, 0.04);
+}
+
+// Holds of 5 s seen in the motion, logged by a clock 2.5 s behind: the
+// offset is found. The same log in milliseconds is refused by name (issue
+// 30: aligned at -16,482 s, every test then "not measured").
+TEST(AlignPressureLog, RefusesAClockInMilliseconds) {
+  TestPointDetection detection;
+  detection.found = true;
+  std::vector<PressureHold> holds;
+  for (int i = 0; i < 4; ++i) {
+    detection.points.push_back({10.0 * i + 2.0, 10.0 * i + 7.0, 1.0});
+    holds.push_back({10.0 * i - 0.5, 10.0 * i + 4.5, Eigen::Vector3d(6, 0, 0)});
+  }
+  EXPECT_NEAR(AlignPressureLog(holds, detection, "log.csv").offset_s, 2.5,
+              1e-12);
+  for (PressureHold& hold : holds) {
+    hold.start_s *= 1000.0;
+    hold.end_s *= 1000.0;
+  }
+  try {
+    AlignPressureLog(holds, detection, "log.csv");
+    FAIL() << "aligned a clock in milliseconds";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "log.csv: the log's holds last 1000 times as long as the "
+                  "heads' motion shows (median over 4 test points): its clock "
+                  "is in milliseconds"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
