@@ -157,7 +157,7 @@ std::string CameraCalibrationToYaml(const CameraCalibration& calibration) {
 
 CameraCalibration LoadCameraCalibration(const std::string& path) {
   const std::string text =
-      ReadTextFile(path, "camera intrinsics", kMaxIntrinsicsBytes);
+      ReadTextFile(path, "intrinsics file", kMaxIntrinsicsBytes);
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);

@@ -118,6 +118,31 @@ std::string CombinedPressureUnit(const FitCommandOptions& flags) {
 }  // namespace
 
 FitAnalysisOptions FitAnalysisOptionsFromFlags(const FitCommandOptions& flags) {
+  // Each flag is checked under its own name (the options' own check below
+  // words its problems for the library's fields).
+  if (!(flags.loss_scale_n > 0.0)) {
+    throw InputError("--loss-scale: must be > 0 N");
+  }
+  if (!(flags.axial_weight >= 0.0)) {
+    throw InputError("--axial-weight: must be >= 0");
+  }
+  if (!(flags.shear_weight >= 0.0)) {
+    throw InputError("--shear-weight: must be >= 0");
+  }
+  if (flags.axial_weight + flags.shear_weight == 0.0) {
+    throw InputError(
+        "--axial-weight and --shear-weight: both are 0, so nothing is "
+        "fitted; give one of them a weight > 0");
+  }
+  if (flags.robust_rows < 1000) {
+    throw InputError("--robust-rows: keep at least 1000 rows");
+  }
+  if (!(flags.natural_length_mm > 0.0 && flags.natural_length_mm <= 1000.0)) {
+    throw InputError(
+        "--natural-length: must be > 0 and at most 1000 mm (the actuator's "
+        "length at rest)");
+  }
+  if (flags.threads < 0) throw InputError("--threads: must be >= 0");
   FitAnalysisOptions options;
   options.input_path = flags.input_path;
   options.fit.loss = ParseLoss(flags.loss);

@@ -171,6 +171,10 @@ TEST_F(NeverSilentTest, FlagsAreBlamedByNameAndLibrariesStayQuiet) {
   ExpectOneLineError("calibrate-camera " + dir_.string() +
                          " --board 9x6 --square-mm 0 --out " + Path("c.yaml"),
                      {"--square-mm: 0 is not a square's side"});
+  // The fit's options were "fit: fit: loss scale ...", under no flag.
+  ExpectOneLineError("fit " + dir_.string() + "/none.csv --loss huber "
+                     "--loss-scale -1 --pressure-unit kpa",
+                     {"--loss-scale: must be > 0 N"});
   // x264 printed its own complaint about the preset before softbench's.
   ExpectOneLineError("render --plan " + kSamples + "/delta/plan.yaml --out " +
                          Path("v.mp4") + " --truth " + Path("t.csv") +
