@@ -8,6 +8,7 @@
 #include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
 #include "pipelines/commands/render_flags.h"
+#include "pipelines/synthetic/render_timeline.h"
 #include "pipelines/synthetic/render_video.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
@@ -123,6 +124,8 @@ void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
 
 namespace {
 
+constexpr double kMaxRenderFrames = 300000.0;
+
 // The camera and scene of --resolution, --focal-*, --principal-point,
 // --tilt-deg, --distortion, --no-motion-blur and --no-ring.
 RenderOptions SceneFromFlags(const RenderCommandOptions& flags) {
@@ -223,6 +226,17 @@ VideoWriterOptions WriterFromFlags(const RenderCommandOptions& flags) {
 
 int RunRender(RenderCommandOptions options, std::ostream& out) {
   const TestPlan plan = LoadTestPlan(options.plan_path);
+  // The frames' times and truth are held for the whole video: a plan that
+  // runs for days is refused with its length, not left to fail allocating.
+  const double duration_s = HeadTimeline(plan).duration_s();
+  if (!(duration_s * options.fps <= kMaxRenderFrames)) {
+    throw InputError(fmt::format(
+        "{}: the video would last {:.4g} s, {:.3g} frames at {} fps; render "
+        "at most {:.0f} frames (about {:.1f} h at 30 fps): shorten "
+        "scene.hold_s and scene.rest_s, or the tests' times",
+        plan.path, duration_s, duration_s * options.fps, options.fps,
+        kMaxRenderFrames, kMaxRenderFrames / 30.0 / 3600.0));
+  }
   RenderVideoOptions render;
   render.scene = SceneFromFlags(options);
   render.conditions = ConditionsFromFlags(options);

@@ -75,6 +75,14 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
   }
   if (const YAML::Node scale = node["mm_per_px"]) {
     c.mm_per_px = Positive(reader, scale, "mm_per_px");
+    // A pixel of a bench video spans micrometres to a millimetre or so.
+    if (*c.mm_per_px > 10.0) {
+      reader.Fail(scale, "mm_per_px",
+                  fmt::format("{} mm per pixel is no bench camera's scale "
+                              "(above 10); give the scale on the dots' plane "
+                              "(typically 0.01 to 1)",
+                              *c.mm_per_px));
+    }
   }
   if (const YAML::Node rotation = node["image_rotation_deg"]) {
     c.image_rotation_deg = reader.Number(rotation, "image_rotation_deg");
@@ -113,6 +121,14 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
     }
     if (const YAML::Node size = tag_node["size_mm"]) {
       tag.size_mm = Positive(reader, size, "size_mm");
+      // The black border's side, as printed: from a sticker to a poster.
+      if (tag.size_mm < 2.0 || tag.size_mm > 2000.0) {
+        reader.Fail(size, "size_mm",
+                    fmt::format("{} mm is no printed tag's side; give the "
+                                "black border's side in mm, 2 to 2000 "
+                                "(softbench targets prints 50 by default)",
+                                tag.size_mm));
+      }
     }
     if (const YAML::Node center = tag_node["center_mm"]) {
       const auto pair = reader.Pair(center, "center_mm");
@@ -319,19 +335,25 @@ void ParseScene(const YamlReader& reader, const YAML::Node& node,
       node, "scene",
       {"settle_time_constant_s", "creep_fraction", "creep_time_constant_s",
        "head_side_mm", "lead_in_s", "hold_s", "rest_s"});
-  const auto set = [&](const char* key, double* value, bool positive) {
+  // A bench scene's times are at most a day, its head at most a metre wide,
+  // and creep a fraction of the motion: beyond these a value is a typo.
+  const auto set = [&](const char* key, double* value, bool positive,
+                       double max) {
     if (const YAML::Node v = node[key]) {
       *value =
           positive ? Positive(reader, v, key) : NonNegative(reader, v, key);
+      if (*value > max) {
+        reader.Fail(v, key, fmt::format("must be at most {}", max));
+      }
     }
   };
-  set("settle_time_constant_s", &scene->settle_time_constant_s, true);
-  set("creep_fraction", &scene->creep_fraction, false);
-  set("creep_time_constant_s", &scene->creep_time_constant_s, true);
-  set("head_side_mm", &scene->head_side_mm, false);
-  set("lead_in_s", &scene->lead_in_s, false);
-  set("hold_s", &scene->hold_s, true);
-  set("rest_s", &scene->rest_s, true);
+  set("settle_time_constant_s", &scene->settle_time_constant_s, true, 86400);
+  set("creep_fraction", &scene->creep_fraction, false, 1.0);
+  set("creep_time_constant_s", &scene->creep_time_constant_s, true, 86400);
+  set("head_side_mm", &scene->head_side_mm, false, 1000);
+  set("lead_in_s", &scene->lead_in_s, false, 86400);
+  set("hold_s", &scene->hold_s, true, 86400);
+  set("rest_s", &scene->rest_s, true, 86400);
 }
 
 }  // namespace

@@ -172,9 +172,18 @@ TEST_F(NeverSilentTest, FlagsAreBlamedByNameAndLibrariesStayQuiet) {
                          " --board 9x6 --square-mm 0 --out " + Path("c.yaml"),
                      {"--square-mm: 0 is not a square's side"});
   // The fit's options were "fit: fit: loss scale ...", under no flag.
-  ExpectOneLineError("fit " + dir_.string() + "/none.csv --loss huber "
-                     "--loss-scale -1 --pressure-unit kpa",
+  ExpectOneLineError("fit " + dir_.string() +
+                         "/none.csv --loss huber "
+                         "--loss-scale -1 --pressure-unit kpa",
                      {"--loss-scale: must be > 0 N"});
+  // A plan whose times run for years failed allocating its frame times.
+  const std::string long_plan =
+      Write("long.yaml",
+            "mechanism: delta\npressure_unit: psi\ntests:\n  - {id: a, "
+            "pressures: [1, 1, 1], actuate_s: 1e9, release_s: 2e9}\n");
+  ExpectOneLineError("render --plan " + long_plan + " --out " + Path("v.mp4") +
+                         " --truth " + Path("t.csv"),
+                     {"long.yaml: the video would last 2e+09 s"});
   // x264 printed its own complaint about the preset before softbench's.
   ExpectOneLineError("render --plan " + kSamples + "/delta/plan.yaml --out " +
                          Path("v.mp4") + " --truth " + Path("t.csv") +

@@ -182,6 +182,20 @@ TEST(TestPlan, WrongShapesAreLocatedErrorsNeverYamlCppExceptions) {
            "': no such mechanism"},
       {head + "constants: " + std::string(300, 'c') + ".yaml\n" + tests,
        "plan.yaml:3: constants: "},
+      // Numbers no bench has (issue 30: a render that failed allocating, a
+      // misfit of "inf mm", a camera "-0 mm" from a tag).
+      {head + "scene: {hold_s: 1e9}\n" + tests,
+       "plan.yaml:3: hold_s: must be at most 86400"},
+      {head + "calibration: {mm_per_px: 1e308}\n" + tests,
+       "plan.yaml:3: mm_per_px: 1e+308 mm per pixel is no bench camera's"},
+      {head + "calibration: {tag: {id: 0, size_mm: 1e-9}}\n" + tests,
+       "plan.yaml:3: size_mm: 1e-09 mm is no printed tag's side"},
+      {head + "calibration: {focal_length_35mm: 1e308}\n" + tests,
+       "plan.yaml:3: focal_length_35mm: 1e+308 mm is no camera's"},
+      {head + "tests:\n  - {id: a, pressures: [1e300, 1, 1]}\n",
+       "plan.yaml:4: pressures: 1e+300 psi is above 100 MPa"},
+      {head + "tests:\n  - {id: a, pressures: [-1, 1, 1]}\n",
+       "plan.yaml:4: pressures: -1 psi is negative"},
   };
   for (const auto& c : cases) {
     EXPECT_NE(ErrorOf(c.yaml).find(c.expected), std::string::npos)
