@@ -22,7 +22,7 @@ std::optional<std::string> VideoWriterOptions::Check() const {
   if (codec != "h264" && codec != "hevc") {
     return "codec must be h264 or hevc";
   }
-  if (!(fps > 0.0) || fps > 1000.0) return "fps must be in (0, 1000]";
+  if (!(fps >= 1.0) || fps > 1000.0) return "fps must be in [1, 1000]";
   if (crf < 0 || crf > 51) return "crf must be between 0 and 51";
   if (!(bitrate_mbps >= 0.0 && bitrate_mbps <= 1000.0)) {
     return "bitrate must be 0 (use the CRF) or up to 1000 Mb/s";

@@ -43,7 +43,7 @@ int RunInverse(const InverseCommandOptions& options, std::ostream& out) {
   const int n = resolved.mechanism.NumUnknowns();
   if (static_cast<int>(target.size()) != n) {
     throw InputError(fmt::format(
-        "--target: {} numbers given but mechanism '{}' has {} head(s); give "
+        "--target: {} number(s) given but mechanism '{}' has {} head(s); give "
         "y,z for each ({} numbers)",
         target.size(), resolved.mechanism.name, n / 2, n));
   }

@@ -18,9 +18,12 @@ double MpaPerPressureUnitFlag(const std::string& unit) {
 void RequirePressureUnit(const ResolvedModel& resolved, std::string_view what) {
   if (resolved.pressure_unit.empty()) {
     throw InputError(fmt::format(
-        "--pressure-unit: missing; say which unit {} is in: {} (softbench "
+        "--pressure-unit: missing; say which unit {} in: {} (softbench "
         "never assumes one)",
-        what, PressureUnitNames()));
+        fmt::format(
+            "{} {}", what,
+            what.find(" and ") == std::string_view::npos ? "is" : "are"),
+        PressureUnitNames()));
   }
 }
 

@@ -19,7 +19,8 @@ cv::Size ParseResolution(const std::string& text) {
     return {w, h};
   }
   throw InputError("--resolution: '" + text +
-                   "' is not 720p, 1080p, 4k or WxH with even sides");
+                   "' is not 720p, 1080p, 4k or WxH with even sides from "
+                   "16 to 8192 pixels");
 }
 
 CameraBump ParseCameraBump(const std::string& text) {

@@ -88,6 +88,10 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
   std::string variant;
   const ForceModel model =
       ResolveAxialShearModel(options.constants_path, options.variant, &variant);
+  if (!(options.synthetic.sample_rate_hz > 0.0 &&
+        options.synthetic.sample_rate_hz <= 1e6)) {
+    throw InputError("--rate: must be > 0 and at most 1e6 samples per s");
+  }
   logs.synthetic = options.synthetic;
   if (options.noise_only) {
     logs.synthetic = SyntheticForceLogOptions::NoiseOnly(model);

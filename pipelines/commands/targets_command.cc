@@ -129,7 +129,7 @@ int RunTargets(const TargetsCommandOptions& o, std::ostream& out) {
   board.sheet = sheet;
   board.board = ParseBoardFlag(o.board, o.square_mm);
   if (auto problem = board.Check()) {
-    throw InputError("--board/--square-mm: " + *problem);
+    throw InputError("--board: " + *problem);
   }
   CheckOutputDirectory(o.output_dir, "--out");
   CheckOutputsSpareInputs({{"--plan", o.plan_path}}, {},

@@ -236,6 +236,10 @@ void MeasureWindows(const std::vector<TimeSpan>& spans, double half_frame_s,
       [&] { progress->Update(frames_done); });
 }
 
+// Motion within a rest [mm] (5-95 % range) that says it was no rest: far
+// above tremor and codec noise (about 0.002 mm), far below a test's motion.
+constexpr double kMaxRestMotionMm = 0.05;
+
 // Each head's rest position: the median over the frames before the first
 // actuation (plan times) or the first `rest_s`; then every frame's
 // displacements from it.
@@ -262,6 +266,19 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
           "no rest position; start the video at rest",
           m->video_path, plan.mechanism.heads[plan.markers[h].head].name,
           rest_end));
+    }
+    // A rest taken by its length (no times in the plan) that runs into the
+    // first actuation would measure every displacement from a point the
+    // head never rested at: its motion inside the rest names the mistake.
+    const double moved_mm = std::hypot(Quantile(ys, 0.95) - Quantile(ys, 0.05),
+                                       Quantile(zs, 0.95) - Quantile(zs, 0.05));
+    if (!plan.HasTimes() && moved_mm > kMaxRestMotionMm) {
+      throw InputError(fmt::format(
+          "{}: head '{}' moves by {:.3f} mm within the first {:.4g} s taken "
+          "as its rest; give a rest (--rest-s) that ends before the first "
+          "actuation",
+          m->video_path, plan.mechanism.heads[plan.markers[h].head].name,
+          moved_mm, rest_end));
     }
     m->rest_mm.emplace_back(Median(ys), Median(zs));
   }

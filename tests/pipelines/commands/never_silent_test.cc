@@ -203,6 +203,18 @@ TEST_F(NeverSilentTest, FlagsAreBlamedByNameAndLibrariesStayQuiet) {
       << err;
 }
 
+// A rest that runs into the first actuation measured every displacement
+// from a point the head never rested at, with exit 0.
+TEST_F(NeverSilentTest, ARestThatRunsIntoTheMotionIsRefused) {
+  ExpectOneLineError("-q track " + kSamples + "/phone/phone.mp4 --plan " +
+                         kSamples + "/phone/plan.yaml --rest-s 100 --out " +
+                         Path("t.csv"),
+                     {"phone.mp4: head 'head' moves by",
+                      "within the first 100 s taken as its rest; give a rest "
+                      "(--rest-s) that ends before the first actuation"});
+  EXPECT_FALSE(fs::exists(Path("t.csv")));
+}
+
 // An MP4 that holds only its index was "an unknown pixel format"; a
 // mechanism path that is a device was "no such mechanism".
 TEST_F(NeverSilentTest, NamesAnIndexWithoutMediaAndADeviceForAMechanism) {
