@@ -54,6 +54,18 @@ double Positive(const YamlReader& reader, const YAML::Node& node,
   return value;
 }
 
+// Fails at `node` when `value` lies outside what a bench has, [lo, hi]:
+// "VALUE UNIT is no WHAT; ADVICE" (a typo or a value in another unit).
+void CheckPlausible(const YamlReader& reader, const YAML::Node& node,
+                    std::string_view key, double value, double lo, double hi,
+                    std::string_view unit, std::string_view what,
+                    std::string_view advice) {
+  if (value < lo || value > hi) {
+    reader.Fail(node, key,
+                fmt::format("{} {} is no {}; {}", value, unit, what, advice));
+  }
+}
+
 void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
                       TestPlan* plan) {
   reader.CheckKeys(
@@ -65,24 +77,17 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
     c.focal_length_35mm = Positive(reader, focal, "focal_length_35mm");
     // From a fisheye's 8 mm to a long telephoto's 2000 mm (35 mm film
     // equivalent); anything else is a typo or the sensor's real focal length.
-    if (c.focal_length_35mm < 8.0 || c.focal_length_35mm > 2000.0) {
-      reader.Fail(focal, "focal_length_35mm",
-                  fmt::format("{} mm is no camera's 35 mm-equivalent focal "
-                              "length; give it between 8 and 2000 mm (an "
-                              "iPhone's main camera: 26)",
-                              c.focal_length_35mm));
-    }
+    CheckPlausible(reader, focal, "focal_length_35mm", c.focal_length_35mm, 8.0,
+                   2000.0, "mm", "camera's 35 mm-equivalent focal length",
+                   "give it between 8 and 2000 mm (an iPhone's main camera: "
+                   "26)");
   }
   if (const YAML::Node scale = node["mm_per_px"]) {
     c.mm_per_px = Positive(reader, scale, "mm_per_px");
     // A pixel of a bench video spans micrometres to a millimetre or so.
-    if (*c.mm_per_px > 10.0) {
-      reader.Fail(scale, "mm_per_px",
-                  fmt::format("{} mm per pixel is no bench camera's scale "
-                              "(above 10); give the scale on the dots' plane "
-                              "(typically 0.01 to 1)",
-                              *c.mm_per_px));
-    }
+    CheckPlausible(reader, scale, "mm_per_px", *c.mm_per_px, 0.0, 10.0,
+                   "mm per pixel", "bench camera's scale (above 10)",
+                   "give the scale on the dots' plane (typically 0.01 to 1)");
   }
   if (const YAML::Node rotation = node["image_rotation_deg"]) {
     c.image_rotation_deg = reader.Number(rotation, "image_rotation_deg");
@@ -122,13 +127,10 @@ void ParseCalibration(const YamlReader& reader, const YAML::Node& node,
     if (const YAML::Node size = tag_node["size_mm"]) {
       tag.size_mm = Positive(reader, size, "size_mm");
       // The black border's side, as printed: from a sticker to a poster.
-      if (tag.size_mm < 2.0 || tag.size_mm > 2000.0) {
-        reader.Fail(size, "size_mm",
-                    fmt::format("{} mm is no printed tag's side; give the "
-                                "black border's side in mm, 2 to 2000 "
-                                "(softbench targets prints 50 by default)",
-                                tag.size_mm));
-      }
+      CheckPlausible(reader, size, "size_mm", tag.size_mm, 2.0, 2000.0, "mm",
+                     "printed tag's side",
+                     "give the black border's side in mm, 2 to 2000 "
+                     "(softbench targets prints 50 by default)");
     }
     if (const YAML::Node center = tag_node["center_mm"]) {
       const auto pair = reader.Pair(center, "center_mm");
