@@ -6,6 +6,8 @@
 #include <fstream>
 
 #include "model/units.h"
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -13,7 +15,7 @@ namespace {
 
 std::string WriteLog(const std::string& name, const std::string& text) {
   const std::string path =
-      (std::filesystem::temp_directory_path() / ("softbench_" + name)).string();
+      (TestScratch().dir() / ("softbench_" + name)).string();
   std::ofstream(path) << text;
   return path;
 }
@@ -41,14 +43,11 @@ std::string ReadError(const std::string& name, const std::string& text,
   ForceLogReadSummary local_summary;
   ForceLogReadOptions options;
   options.max_skipped_fraction = 0.2;
-  try {
+  return InputErrorOf([&] {
     ReadForceTestCsv(WriteLog(name, text), columns, options, 0,
                      test ? test : &local_test,
                      summary ? summary : &local_summary, nullptr, nullptr);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  });
 }
 
 TEST(ForceLogReader, SplitsRampsAndZeroPressureRows) {
@@ -172,28 +171,24 @@ TEST(ForceLogReader, ReadsACombinedLogAndRefusesInterleavedTests) {
   EXPECT_EQ(tests[1].statistics.All().count, 4);
   EXPECT_EQ(summary.rows, 8);
 
-  try {
-    ReadCombinedForceLog(WriteLog("interleaved.csv", header + a + b + a),
-                         ForceLogColumns(), ForceLogReadOptions(), &summary,
-                         nullptr, nullptr);
-    ADD_FAILURE() << "interleaved tests were accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(":10: test 'a' appears again"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT(
+      [&] {
+        ReadCombinedForceLog(WriteLog("interleaved.csv", header + a + b + a),
+                             ForceLogColumns(), ForceLogReadOptions(), &summary,
+                             nullptr, nullptr);
+      },
+      ThrowsInputErrorWith("interleaved.csv",
+                           ":10:", "test 'a' appears again"));
   std::string changed = a;
   changed.replace(changed.rfind("a,1,10"), 6, "a,2,10");
-  try {
-    ReadCombinedForceLog(WriteLog("changed.csv", header + changed),
-                         ForceLogColumns(), ForceLogReadOptions(), &summary,
-                         nullptr, nullptr);
-    ADD_FAILURE() << "a configuration change within a test was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("delta_length_mm changes within"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT(
+      [&] {
+        ReadCombinedForceLog(WriteLog("changed.csv", header + changed),
+                             ForceLogColumns(), ForceLogReadOptions(), &summary,
+                             nullptr, nullptr);
+      },
+      ThrowsInputErrorWith("changed.csv", "",
+                           "delta_length_mm changes within"));
 }
 
 // A bend of 90 deg or more, or a stretch of 100 mm, is no configuration a
@@ -211,15 +206,13 @@ TEST(ForceLogReader, RefusesAConfigurationNoClampCanHold) {
   };
   for (const auto& c : cases) {
     ForceLogReadSummary summary;
-    try {
-      ReadCombinedForceLog(WriteLog("implausible.csv", header + c.row),
-                           ForceLogColumns(), ForceLogReadOptions(), &summary,
-                           nullptr, nullptr);
-      ADD_FAILURE() << c.row << " was accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos)
-          << e.what();
-    }
+    EXPECT_THAT(
+        [&] {
+          ReadCombinedForceLog(WriteLog("implausible.csv", header + c.row),
+                               ForceLogColumns(), ForceLogReadOptions(),
+                               &summary, nullptr, nullptr);
+        },
+        ThrowsInputErrorWith("implausible.csv", "", c.expected));
   }
   // A measured angle in the wrong unit is refused even beside a good
   // nominal one.

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -21,7 +23,7 @@ std::string Read(const fs::path& path) {
 }
 
 TEST(WriteFileAtomically, ReplacesTheFileAndLeavesNoTemporary) {
-  const fs::path dir = fs::temp_directory_path() / "softbench_atomic_ok";
+  const fs::path dir = TestScratch().dir() / "softbench_atomic_ok";
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path path = dir / "out.csv";
@@ -34,12 +36,9 @@ TEST(WriteFileAtomically, ReplacesTheFileAndLeavesNoTemporary) {
 
 TEST(WriteFileAtomically, FailsWithTheFileNamedWhenTheDirectoryIsMissing) {
   const std::string path = "/nonexistent_softbench_dir/out.csv";
-  try {
-    WriteFileAtomically(path, "x");
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
-  }
+  const std::string message =
+      InputErrorOf([&] { WriteFileAtomically(path, "x"); });
+  EXPECT_NE(message.find(path), std::string::npos);
 }
 
 }  // namespace

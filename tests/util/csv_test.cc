@@ -6,14 +6,15 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
 namespace softbench {
 namespace {
 
 std::string WriteTemp(const std::string& name, const std::string& text) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / name).string();
+  const std::string path = (TestScratch().dir() / name).string();
   std::ofstream(path) << text;
   return path;
 }
@@ -51,13 +52,8 @@ TEST(CsvReader, NamesFileAndLineOfARowWithTheWrongFieldCount) {
   CsvReader reader(path);
   std::vector<std::string_view> fields;
   ASSERT_TRUE(reader.ReadRow(&fields));
-  try {
-    reader.ReadRow(&fields);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path + ":3:"), std::string::npos)
-        << e.what();
-  }
+  const std::string message = InputErrorOf([&] { reader.ReadRow(&fields); });
+  EXPECT_NE(message.find(path + ":3:"), std::string::npos) << message;
 }
 
 TEST(CsvReader, RejectsMissingAndEmptyFiles) {
@@ -69,15 +65,12 @@ TEST(CsvReader, RejectsMissingAndEmptyFiles) {
 // The error message of reading every row of `text`, or "" if none.
 std::string ReadAllError(const std::string& name, const std::string& text,
                          DecimalMark decimal_mark = DecimalMark::kPoint) {
-  try {
+  return InputErrorOf([&] {
     CsvReader reader(WriteTemp(name, text), decimal_mark);
     std::vector<std::string_view> fields;
     while (reader.ReadRow(&fields)) {
     }
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  });
 }
 
 // Rows across the buffer's refills, a row longer than the first buffer
@@ -208,16 +201,11 @@ TEST(CsvReader, RefusesWhatIsNotACsvFileWithOneLine) {
   EXPECT_NE(ReadAllError("softbench_twice.csv", "p1_psi,p1_psi\n1,2\n")
                 .find(":1: column 'p1_psi' is given twice"),
             std::string::npos);
-  try {
-    CsvReader reader("/dev/zero");
-    FAIL() << "/dev/zero was opened as a CSV file";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/dev/zero: is a device"),
-              std::string::npos)
-        << e.what();
-  }
-  EXPECT_THROW(CsvReader(std::filesystem::temp_directory_path().string()),
-               InputError);
+  const std::string message =
+      InputErrorOf([&] { CsvReader reader("/dev/zero"); });
+  EXPECT_NE(message.find("/dev/zero: is a device"), std::string::npos)
+      << message;
+  EXPECT_THROW(CsvReader(TestScratch().dir().string()), InputError);
 }
 
 TEST(CsvField, RoundTripsThroughTheReader) {

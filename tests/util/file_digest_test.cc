@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -14,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string WriteFile(const std::string& name, const std::string& bytes) {
-  const fs::path path = fs::temp_directory_path() / name;
+  const fs::path path = TestScratch().dir() / name;
   std::ofstream(path, std::ios::binary) << bytes;
   return path.string();
 }
@@ -34,26 +36,16 @@ TEST(Sha256OfFile, MatchesTheStandardsVectors) {
 }
 
 TEST(Sha256OfFile, NamesAFileItCannotRead) {
-  try {
-    Sha256OfFile("/nonexistent/softbench.mp4");
-    FAIL() << "hashed a missing file";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("/nonexistent/softbench.mp4: ", 0),
-              0u)
-        << e.what();
-  }
+  const std::string message =
+      InputErrorOf([&] { Sha256OfFile("/nonexistent/softbench.mp4"); });
+  EXPECT_EQ(message.rfind("/nonexistent/softbench.mp4: ", 0), 0u) << message;
 }
 
 // A device would be read forever (issue 30: validate /dev/zero hung).
 TEST(Sha256OfFile, RefusesADevice) {
-  try {
-    Sha256OfFile("/dev/zero");
-    FAIL() << "hashed a device";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/dev/zero: is a device"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string message = InputErrorOf([&] { Sha256OfFile("/dev/zero"); });
+  EXPECT_NE(message.find("/dev/zero: is a device"), std::string::npos)
+      << message;
 }
 
 // Once the work it runs beside has failed, a large file is not read on.

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <functional>
 
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 #include "util/text_file.h"
 
@@ -15,17 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ErrorOf(const std::function<void()>& read) {
-  try {
-    read();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(CheckInputFile, RefusesWhatIsNotARegularFileOfASaneSize) {
-  const fs::path dir = fs::temp_directory_path() / "softbench_input_file";
+  const fs::path dir = TestScratch().dir() / "softbench_input_file";
   fs::create_directories(dir);
   const std::string fifo = (dir / "fifo").string();
   fs::remove(fifo);
@@ -33,23 +26,23 @@ TEST(CheckInputFile, RefusesWhatIsNotARegularFileOfASaneSize) {
   const std::string big = (dir / "big.yaml").string();
   std::ofstream(big) << std::string(2000, 'x');
 
-  EXPECT_NE(ErrorOf([] {
-              CheckInputFile("/dev/zero", "test plan");
-            }).find("/dev/zero: is a device, not a regular file; give the test plan's path"),
+  EXPECT_NE(InputErrorOf([] { CheckInputFile("/dev/zero", "test plan"); })
+                .find("/dev/zero: is a device, not a regular file; give the "
+                      "test plan's path"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(InputErrorOf([&] {
               CheckInputFile(fifo, "test plan");
             }).find("is a pipe (FIFO)"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(InputErrorOf([&] {
               CheckInputFile(dir.string(), "test plan");
             }).find("is a folder"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(InputErrorOf([&] {
               CheckInputFile((dir / "none").string(), "plan");
             }).find("no such plan"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(InputErrorOf([&] {
               CheckInputFile(big, "test plan", 1000);
             }).find("2000 bytes is too large for a test plan"),
             std::string::npos);
@@ -74,9 +67,9 @@ TEST(FindNonText, NamesTheLineOfLatin1NulAndControlBytes) {
 
 TEST(ReadTextFile, RefusesATextThatIsNotUtf8WithFileAndLine) {
   const std::string path =
-      (fs::temp_directory_path() / "softbench_latin1.yaml").string();
+      (TestScratch().dir() / "softbench_latin1.yaml").string();
   std::ofstream(path) << "id: ok\nname: caf\xE9\n";
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(InputErrorOf([&] {
               ReadTextFile(path, "test plan", 1 << 20);
             }).find("softbench_latin1.yaml:2: byte 0xE9 is not UTF-8"),
             std::string::npos);

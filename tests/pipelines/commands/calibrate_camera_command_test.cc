@@ -11,7 +11,8 @@
 #include <sstream>
 
 #include "pipelines/measurement/board_views.h"
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "tests/vision/board_images.h"
 #include "util/input_error.h"
 
@@ -79,13 +80,9 @@ TEST_F(CalibrateCameraCommandTest,
 
   options.board = "7x5";  // the wrong board: refused with the print's
   options.output_path = Path("camera_wrong.yaml");
-  try {
-    RunCalibrateCamera(options, out);
-    FAIL() << "calibrated with the wrong board";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("give --board 9x6"), std::string::npos)
-        << e.what();
-  }
+  const std::string message =
+      InputErrorOf([&] { RunCalibrateCamera(options, out); });
+  EXPECT_NE(message.find("give --board 9x6"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(options.output_path));
 }
 
@@ -155,16 +152,12 @@ TEST_F(SampleChessboardPhotosTest, RefusesABoardThePrintDoesNotHave) {
     options.square_mm = 25.0;
     options.output_path = Path("camera.yaml");
     std::ostringstream out;
-    try {
-      RunCalibrateCamera(options, out);
-      ADD_FAILURE() << board << " accepted";
-    } catch (const InputError& e) {
-      const std::string message = e.what();
-      EXPECT_NE(message.find("give --board 9x6"), std::string::npos) << message;
-      EXPECT_NE(message.find(std::string("not the ") + board[0]),
-                std::string::npos)
-          << message;
-    }
+    const std::string message =
+        InputErrorOf([&] { RunCalibrateCamera(options, out); });
+    EXPECT_NE(message.find("give --board 9x6"), std::string::npos) << message;
+    EXPECT_NE(message.find(std::string("not the ") + board[0]),
+              std::string::npos)
+        << message;
     EXPECT_FALSE(fs::exists(options.output_path));
     EXPECT_FALSE(fs::exists(Path("camera.html")));
   }

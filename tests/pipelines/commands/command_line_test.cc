@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "pipelines/commands/command_table.h"
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/scratch_directory.h"
 
 namespace softbench {
 namespace {
@@ -103,7 +103,7 @@ TEST_F(CommandLineTest, AMalformedLineIsOneLineOfBadInput) {
   const struct {
     std::string arguments, expected;
   } cases[] = {
-      {"calibrate-camera " + dir_.string() + " --out " + Path("c.yaml"),
+      {"calibrate-camera " + dir().string() + " --out " + Path("c.yaml"),
        "softbench: error: --square-mm is required; see 'softbench "
        "calibrate-camera --help'"},
       {"predict --mechanism delta --pressures 6,6,0 --pressure-unit psi "
@@ -139,7 +139,7 @@ TEST_F(CommandLineTest, AnUnwritableOutputIsFoundBeforeAnyWork) {
            "/delta/plan.yaml --out /nonexistent/report",
        "--out: /nonexistent/report: folder '/nonexistent' does not exist"},
       {"track " + samples + "/delta/delta.mp4 --plan " + samples +
-           "/delta/plan.yaml --out " + dir_.string(),
+           "/delta/plan.yaml --out " + dir().string(),
        " is a folder; give a file name inside it"},
       {"render --plan " + samples + "/delta/plan.yaml --out " + Path("v.mp4") +
            " --truth /proc/truth.csv",

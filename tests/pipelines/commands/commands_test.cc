@@ -11,7 +11,8 @@
 #include "pipelines/commands/predict_command.h"
 #include "pipelines/commands/workspace_command.h"
 #include "tests/model/thesis_mechanisms.h"
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/csv.h"
 #include "util/input_error.h"
 
@@ -29,12 +30,7 @@ class CommandsTest : public ScratchDirectoryTest {
     options.input_path = Write("in.csv", csv);
     options.output_path = Path("out.csv");
     std::ostringstream out;
-    try {
-      RunPredict(options, out);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
+    return InputErrorOf([&] { RunPredict(options, out); });
   }
 };
 
@@ -137,27 +133,15 @@ TEST_F(CommandsTest, PredictNeverAssumesAPressureUnit) {
   options.input_path = Write("plain.csv", "p1,p2,p3\n6,3,0\n");
   options.output_path = Path("out.csv");
   std::ostringstream out;
-  try {
-    RunPredict(options, out);
-    FAIL() << "a plain p1 column without --pressure-unit was read";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "plain.csv:1: the pressure columns do not say their unit; "
-                  "name them p1_psi, p1_kpa or p1_mpa ..., or pass "
-                  "--pressure-unit"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT([&] { RunPredict(options, out); },
+              ThrowsInputErrorWith(
+                  "plain.csv", ":1:",
+                  "the pressure columns do not say their unit; name them "
+                  "p1_psi, p1_kpa or p1_mpa ..., or pass --pressure-unit"));
   options.input_path.clear();
   options.pressures = "6,3,0";
-  try {
-    RunPredict(options, out);
-    FAIL() << "--pressures without --pressure-unit was read";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--pressure-unit: missing"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT([&] { RunPredict(options, out); },
+              ThrowsInputErrorWith("", "--pressure-unit", "missing"));
   EXPECT_FALSE(fs::exists(Path("out.csv")));
 }
 

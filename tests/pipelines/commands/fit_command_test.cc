@@ -16,7 +16,8 @@
 #include "pipelines/commands/synth_forces_command.h"
 #include "pipelines/formats/constants_file.h"
 #include "pipelines/synthetic/force_logs.h"
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -99,7 +100,7 @@ TEST_F(FitCommandTest, WritesConstantsThatRecoverTheTruthAndAReport) {
                             Path("report/report.html") + " >&2";
   EXPECT_EQ(std::system(check.c_str()), 0) << check;
   // Nothing but the report is left in its parent directory.
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir_)) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir())) {
     EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
   }
 }
@@ -130,15 +131,11 @@ TEST_F(FitCommandTest, AFailedReportLeavesThePreviousOneWhole) {
   ASSERT_EQ(RunFit(options, out), 0);
   const std::string before = Read(Path("report/fit.json"));
   setenv("SOFTBENCH_REPORT_ASSETS", Path("nowhere").c_str(), 1);
-  try {
+  const std::string message = InputErrorOf([&] {
     options.axial_weight = 2.0;  // a different fit, were it written
     RunFit(options, out);
-    ADD_FAILURE() << "a report without its plotting libraries was written";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("scripts/bootstrap.sh"),
-              std::string::npos)
-        << e.what();
-  }
+  });
+  EXPECT_NE(message.find("scripts/bootstrap.sh"), std::string::npos) << message;
   unsetenv("SOFTBENCH_REPORT_ASSETS");
   EXPECT_EQ(Read(Path("report/fit.json")), before);
 }
@@ -171,7 +168,7 @@ TEST_F(FitCommandTest, AKilledSynthForcesLeavesThePreviousLogsAsTheyWere) {
   ASSERT_EQ(WEXITSTATUS(status), 128 + SIGKILL) << "it was not killed mid-run";
   // It was writing beside the logs...
   bool staged = false;
-  for (const auto& entry : fs::directory_iterator(dir_)) {
+  for (const auto& entry : fs::directory_iterator(dir())) {
     staged |= entry.path().filename().string().starts_with(".logs.");
   }
   EXPECT_TRUE(staged);
@@ -216,14 +213,8 @@ TEST_F(FitCommandTest, SaysWhyConstantsCannotBeFitted) {
       Fit(ZeroAngleManifest(manifest_path, Path("zero_angle.yaml")));
   options.output_path = Path("constants.yaml");
   std::ostringstream out;
-  try {
-    RunFit(options, out);
-    ADD_FAILURE() << "unidentifiable constants were written";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("W_y cannot be fitted"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string message = InputErrorOf([&] { RunFit(options, out); });
+  EXPECT_NE(message.find("W_y cannot be fitted"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(options.output_path));
   // The baseline has no angle terms and is still fitted and printed.
   EXPECT_NE(out.str().find("pressurized-spring"), std::string::npos);
@@ -243,16 +234,11 @@ TEST_F(FitCommandTest, RefusesBendConstantsFromTestsThatNeverBent) {
   FitCommandOptions options = Fit(ZeroAngleManifest(
       Path("rig/manifest.yaml"), Path("rig/zero_angle.yaml")));
   options.output_path = Path("constants.yaml");
-  try {
-    RunFit(options, out);
-    ADD_FAILURE() << "W_y and k_theta from tests that never bent were written";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "W_y and k_theta, which act through the bend, are not "
-                  "identifiable"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string message = InputErrorOf([&] { RunFit(options, out); });
+  EXPECT_NE(message.find("W_y and k_theta, which act through the bend, are not "
+                         "identifiable"),
+            std::string::npos)
+      << message;
   EXPECT_FALSE(fs::exists(options.output_path));
 }
 
@@ -261,24 +247,14 @@ TEST_F(FitCommandTest, NamesTheManifestLineOfABadEntry) {
   std::ofstream(manifest_path)
       << "pressure_unit: kpa\ntests:\n"
          "  - {id: a, file: a.csv, delta_length_mm: 1, theta_dg: 10}\n";
-  try {
-    LoadForceLogManifest(manifest_path);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.yaml:3"), std::string::npos)
-        << e.what();
-    EXPECT_NE(std::string(e.what()).find("theta_dg"), std::string::npos);
-  }
+  EXPECT_THAT([&] { LoadForceLogManifest(manifest_path); },
+              ThrowsInputErrorWith("bad.yaml", "bad.yaml:3", "theta_dg"));
   std::ofstream(manifest_path)
       << "pressure_unit: kpa\ntests:\n"
          "  - {id: a, file: missing.csv, delta_length_mm: 1, theta_deg: 10}\n";
-  try {
-    RunFitAnalysis(FitAnalysisOptionsFromFlags(Fit(manifest_path)));
-    ADD_FAILURE();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("missing.csv"), std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT(
+      [&] { RunFitAnalysis(FitAnalysisOptionsFromFlags(Fit(manifest_path))); },
+      ThrowsInputErrorWith("missing.csv", "", ""));
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/scratch_directory.h"
 
 namespace softbench {
 namespace {
@@ -168,11 +168,11 @@ TEST_F(NeverSilentTest, AManifestsUnitThatContradictsItsColumnIsNamed) {
 // Each flag is blamed for its own value; third-party libraries print
 // nothing of their own.
 TEST_F(NeverSilentTest, FlagsAreBlamedByNameAndLibrariesStayQuiet) {
-  ExpectOneLineError("calibrate-camera " + dir_.string() +
+  ExpectOneLineError("calibrate-camera " + dir().string() +
                          " --board 9x6 --square-mm 0 --out " + Path("c.yaml"),
                      {"--square-mm: 0 is not a square's side"});
   // The fit's options were "fit: fit: loss scale ...", under no flag.
-  ExpectOneLineError("fit " + dir_.string() +
+  ExpectOneLineError("fit " + dir().string() +
                          "/none.csv --loss huber "
                          "--loss-scale -1 --pressure-unit kpa",
                      {"--loss-scale: must be > 0 N"});

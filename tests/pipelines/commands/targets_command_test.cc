@@ -6,7 +6,8 @@
 #include <filesystem>
 #include <sstream>
 
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -39,12 +40,9 @@ TEST_F(TargetsCommandTest, RefusesAnUnknownIdColourPaperOrBoard) {
   const auto refusal = [&](TargetsCommandOptions options) -> std::string {
     options.output_dir = Path("sheets");
     std::ostringstream out;
-    try {
-      RunTargets(options, out);
-    } catch (const InputError& e) {
-      EXPECT_FALSE(fs::exists(Path("sheets")));
-      return e.what();
-    }
+    const std::string message = InputErrorOf([&] { RunTargets(options, out); });
+    EXPECT_FALSE(fs::exists(Path("sheets")));
+    return message;
     return "accepted";
   };
   TargetsCommandOptions options;

@@ -15,6 +15,9 @@
 #include "pipelines/commands/render_command.h"
 #include "pipelines/commands/tune_command.h"
 #include "pipelines/commands/validate_command.h"
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/rendered_clip.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -32,32 +35,22 @@ tests:
 
 class TrackCommandTest : public ::testing::Test {
  protected:
-  // One 5 s 720p clip for every test of the suite.
+  // One 5 s 720p clip for every test of the suite, in a scratch folder of
+  // the suite's own.
   static void SetUpTestSuite() {
-    // One folder per process: ctest may run these tests in parallel.
-    dir_ = fs::temp_directory_path() /
-           ("softbench_track_command_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    std::ofstream(dir_ / "plan.yaml") << kPlan;
-    RenderCommandOptions render;
-    render.plan_path = (dir_ / "plan.yaml").string();
-    render.output_path = (dir_ / "clip.mp4").string();
-    render.truth_path = (dir_ / "truth.csv").string();
-    render.resolution = "720p";
-    render.preset = "veryfast";
-    render.quiet = true;
-    std::ostringstream out;
-    RunRender(render, out);
+    scratch_ = new ScratchDirectory();
+    RenderClip(QuickRenderOptions(*scratch_, kPlan));
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static void TearDownTestSuite() {
+    delete scratch_;
+    scratch_ = nullptr;
+  }
   static std::string Path(const std::string& name) {
-    return (dir_ / name).string();
+    return scratch_->Path(name);
   }
   static std::string WritePlan(const std::string& name,
                                const std::string& text) {
-    std::ofstream(Path(name)) << text;
-    return Path(name);
+    return scratch_->Write(name, text);
   }
   // Runs track and returns the InputError message ("" if none).
   static std::string TrackError(const std::string& plan_path) {
@@ -67,18 +60,16 @@ class TrackCommandTest : public ::testing::Test {
     options.output_path = Path("error_trajectory.csv");
     options.quiet = true;
     std::ostringstream out;
-    try {
-      RunTrack(options, out);
-    } catch (const InputError& e) {
+    const std::string message = InputErrorOf([&] { RunTrack(options, out); });
+    if (!message.empty()) {
       EXPECT_FALSE(fs::exists(options.output_path));
-      return e.what();
     }
-    return "";
+    return message;
   }
-  static fs::path dir_;
+  static ScratchDirectory* scratch_;
 };
 
-fs::path TrackCommandTest::dir_;
+ScratchDirectory* TrackCommandTest::scratch_ = nullptr;
 
 TEST_F(TrackCommandTest, WritesOneRowPerFrameAndHead) {
   TrackCommandOptions options;
@@ -378,17 +369,9 @@ TEST_F(TrackCommandTest, TuneTakesPngJpegAndHeicPhotos) {
   }
   options.source_path = Path("broken.heic");
   std::ofstream(options.source_path) << "not really";
-  try {
-    RunTune(options, out);
-    FAIL() << "read a broken HEIC";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(options.source_path +
-                                              ": not a "
-                                              "readable HEIC/HEIF photo",
-                                          0),
-              0u)
-        << e.what();
-  }
+  EXPECT_THAT([&] { RunTune(options, out); },
+              ::testing::ThrowsMessage<InputError>(::testing::StartsWith(
+                  options.source_path + ": not a readable HEIC/HEIF photo")));
 }
 
 TEST_F(TrackCommandTest, TuneRejectsAnUnknownColour) {
@@ -396,14 +379,8 @@ TEST_F(TrackCommandTest, TuneRejectsAnUnknownColour) {
   options.source_path = Path("clip.mp4");
   options.color = "purple";
   std::ostringstream out;
-  try {
-    RunTune(options, out);
-    FAIL() << "accepted purple";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--color: 'purple' is not red"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT([&] { RunTune(options, out); },
+              ThrowsInputErrorWith("", "--color", "'purple' is not red"));
 }
 
 }  // namespace

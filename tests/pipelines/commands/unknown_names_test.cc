@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/scratch_directory.h"
 
 namespace softbench {
 namespace {

@@ -18,7 +18,10 @@
 #include "pipelines/commands/render_command.h"
 #include "pipelines/commands/validate_command.h"
 #include "pipelines/measurement/test_point_detection.h"
-#include "tests/pipelines/scratch_directory.h"
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/rendered_clip.h"
+#include "tests/support/rendered_truth.h"
+#include "tests/support/scratch_directory.h"
 #include "util/csv.h"
 #include "util/file_digest.h"
 #include "util/input_error.h"
@@ -39,47 +42,13 @@ int Count(const std::string& text, const std::string& pattern) {
   return count;
 }
 
-// Per-frame truth of a rendered video: time and every head's displacement.
-struct Truth {
-  std::vector<double> time_s;
-  std::vector<Eigen::VectorXd> displacement_mm;  // (y1, z1, y2, z2, ...)
-};
-
-Truth LoadTruth(const std::string& path, int num_heads) {
-  CsvReader reader(path);
-  Truth truth;
-  std::vector<std::string_view> fields;
-  while (reader.ReadRow(&fields)) {
-    truth.time_s.push_back(*ParseDouble(fields[1]));
-    Eigen::VectorXd d(2 * num_heads);
-    for (int h = 0; h < num_heads; ++h) {
-      d[2 * h] = *ParseDouble(fields[2 + 4 * h]);
-      d[2 * h + 1] = *ParseDouble(fields[3 + 4 * h]);
-    }
-    truth.displacement_mm.push_back(d);
-  }
-  return truth;
-}
-
-// The truth's median over a window, per coordinate.
-Eigen::VectorXd TruthMedian(const Truth& truth, const WindowSummary& window) {
-  std::vector<std::vector<double>> values(truth.displacement_mm[0].size());
-  for (size_t i = 0; i < truth.time_s.size(); ++i) {
-    if (truth.time_s[i] < window.start_s || truth.time_s[i] >= window.end_s) {
-      continue;
-    }
-    for (size_t k = 0; k < values.size(); ++k) {
-      values[k].push_back(truth.displacement_mm[i][k]);
-    }
-  }
-  Eigen::VectorXd median(values.size());
-  for (size_t k = 0; k < values.size(); ++k) {
-    std::sort(values[k].begin(), values[k].end());
-    const size_t n = values[k].size();
-    median[k] = n % 2 ? values[k][n / 2]
-                      : 0.5 * (values[k][n / 2 - 1] + values[k][n / 2]);
-  }
-  return median;
+// The truth's displacement from window `from` to window `to`, as scoring
+// takes it: the difference of the windows' medians.
+Eigen::VectorXd TruthDisplacement(const RenderedTruth& truth,
+                                  const WindowSummary& from,
+                                  const WindowSummary& to) {
+  return truth.MedianDisplacementMm(to.start_s, to.end_s) -
+         truth.MedianDisplacementMm(from.start_s, from.end_s);
 }
 
 // Scores a bundled sample and checks every measured displacement against
@@ -106,7 +75,7 @@ ValidationResult CheckSample(const std::string& name, bool windows_only,
   EXPECT_EQ(m.every_frame, !windows_only);
   const ValidationResult result = ScoreTests(plan, m, ValidationOptions());
   const int num_heads = plan.mechanism.NumHeads();
-  const Truth truth = LoadTruth(dir + "/truth.csv", num_heads);
+  const RenderedTruth truth = ReadRenderedTruth(dir + "/truth.csv");
 
   // What predict says for the same pressures (both models).
   std::string pressures = "";
@@ -121,7 +90,7 @@ ValidationResult CheckSample(const std::string& name, bool windows_only,
     pressures += "\n";
   }
   const std::string input =
-      (fs::temp_directory_path() /
+      (TestScratch().dir() /
        ("softbench_validate_" + name + "_" + std::to_string(getpid()) + ".csv"))
           .string();
   std::ofstream(input) << pressures;
@@ -152,9 +121,8 @@ ValidationResult CheckSample(const std::string& name, bool windows_only,
     const TestScore& score = result.tests[i];
     EXPECT_TRUE(score.measured) << score.id << ": " << score.reason;
     EXPECT_NE(score.status, "not measured") << score.id;
-    const Eigen::VectorXd true_displacement =
-        TruthMedian(truth, score.windows[kActuatedWindow]) -
-        TruthMedian(truth, score.windows[kInitialWindow]);
+    const Eigen::VectorXd true_displacement = TruthDisplacement(
+        truth, score.windows[kInitialWindow], score.windows[kActuatedWindow]);
     for (int h = 0; h < num_heads; ++h) {
       const double error =
           (score.heads[h].measured_mm - true_displacement.segment<2>(2 * h))
@@ -250,13 +218,13 @@ TEST(ValidateSamples, PhoneFramesFollowTheTremor) {
   VideoMeasurementOptions measure;
   measure.progress = false;
   const VideoMeasurement m = MeasureVideo(plan, dir + "/phone.mp4", measure);
-  const Truth truth = LoadTruth(dir + "/truth.csv", 1);
+  const RenderedTruth truth = ReadRenderedTruth(dir + "/truth.csv");
   std::vector<Eigen::Vector2d> errors;
   for (const FrameSample& f : m.frames) {
     const Eigen::Vector2d d = f.heads[0].displacement_mm;
     if (!f.registered || !d.allFinite()) continue;
     ASSERT_LT(f.frame, static_cast<int64_t>(truth.time_s.size()));
-    errors.push_back(d - truth.displacement_mm[f.frame].head<2>());
+    errors.push_back(d - truth.displacement_mm[f.frame][0]);
   }
   ASSERT_GT(errors.size(), 400u);
   Eigen::Vector2d median;
@@ -284,11 +252,11 @@ TEST(ValidateSamples, PhoneFootageIsWrongWithoutRegistration) {
   const ValidationResult result =
       ScoreTests(plan, MeasureVideo(plan, dir + "/phone.mp4", measure),
                  ValidationOptions());
-  const Truth truth = LoadTruth(dir + "/truth.csv", 1);
+  const RenderedTruth truth = ReadRenderedTruth(dir + "/truth.csv");
   double worst = 0.0;
   for (const TestScore& score : result.tests) {
-    const Eigen::VectorXd d = TruthMedian(truth, score.windows[1]) -
-                              TruthMedian(truth, score.windows[0]);
+    const Eigen::VectorXd d =
+        TruthDisplacement(truth, score.windows[0], score.windows[1]);
     worst = std::max(worst, (score.heads[0].measured_mm - d.head<2>()).norm());
   }
   EXPECT_GT(worst, 0.1);
@@ -343,16 +311,8 @@ class ValidateCommandTest : public ScratchDirectoryTest {
  protected:
   // The options that render `plan_yaml` as a quick 720p clip (clip.mp4,
   // truth.csv, rendered.plan.yaml here).
-  RenderCommandOptions QuickRender(const char* plan_yaml) {
-    RenderCommandOptions render;
-    render.plan_path = Write("plan.yaml", plan_yaml);
-    render.output_path = Path("clip.mp4");
-    render.truth_path = Path("truth.csv");
-    render.plan_out_path = Path("rendered.plan.yaml");
-    render.resolution = "720p";
-    render.preset = "veryfast";
-    render.quiet = true;
-    return render;
+  RenderCommandOptions QuickRender(const char* plan_yaml) const {
+    return QuickRenderOptions(scratch(), plan_yaml);
   }
   void CheckPhoneFormat(const std::function<void(RenderCommandOptions*)>& set);
   ValidateCommandOptions CheckClockOffset(const std::string& sample,
@@ -394,12 +354,8 @@ class ValidateCommandTest : public ScratchDirectoryTest {
     const ValidateCommandOptions options =
         DeltaWithPlan(plan, /*windows_only=*/false);
     std::ostringstream out;
-    std::string message;
-    try {
-      RunValidate(options, out);
-    } catch (const InputError& e) {
-      message = e.what();
-    }
+    const std::string message =
+        InputErrorOf([&] { RunValidate(options, out); });
     EXPECT_FALSE(fs::exists(Path("report")));
     return message;
   }
@@ -408,7 +364,7 @@ class ValidateCommandTest : public ScratchDirectoryTest {
 TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
   const RenderCommandOptions render = QuickRender(kSlipPlan);
   std::ostringstream out;
-  RunRender(render, out);
+  RenderClip(render);
 
   ValidateCommandOptions options = ValidateClip(render, "report");
   ASSERT_EQ(RunValidate(options, out), 0);
@@ -545,19 +501,18 @@ tests:
     render.preset = "fast";
   }
   std::ostringstream out;
-  RunRender(render, out);
+  RenderClip(render);
   const TestPlan plan = LoadTestPlan(render.plan_out_path);
   VideoMeasurementOptions measure;
   measure.progress = false;
   const VideoMeasurement m = MeasureVideo(plan, render.output_path, measure);
   const ValidationResult result = ScoreTests(plan, m, ValidationOptions());
-  const Truth truth = LoadTruth(render.truth_path, 1);
+  const RenderedTruth truth = ReadRenderedTruth(render.truth_path);
   double worst = 0.0;
   for (const TestScore& score : result.tests) {
     ASSERT_TRUE(score.measured) << score.reason;
-    const Eigen::VectorXd d =
-        TruthMedian(truth, score.windows[kActuatedWindow]) -
-        TruthMedian(truth, score.windows[kInitialWindow]);
+    const Eigen::VectorXd d = TruthDisplacement(
+        truth, score.windows[kInitialWindow], score.windows[kActuatedWindow]);
     worst = std::max(worst, (score.heads[0].measured_mm - d).norm());
   }
   std::cout << m.video_format << ": worst displacement error " << worst
@@ -616,18 +571,13 @@ tests:
   render.no_ring = true;
   render.conditions.tag_gone_after_s = 1.0;
   std::ostringstream out;
-  RunRender(render, out);
+  RenderClip(render);
   ValidateCommandOptions options = ValidateClip(render, "report");
-  try {
-    RunValidate(options, out);
-    FAIL() << "validated a video whose tag went away";
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("could not be registered to the bench (frames 30-"),
-              std::string::npos)
-        << message;
-    EXPECT_NE(message.find("tag"), std::string::npos) << message;
-  }
+  const std::string message = InputErrorOf([&] { RunValidate(options, out); });
+  EXPECT_NE(message.find("could not be registered to the bench (frames 30-"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("tag"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(Path("report")));
   // Without registration the camera is taken to be still, as asked.
   options.no_registration = true;
@@ -647,19 +597,15 @@ tests:
 )");
   render.conditions.tag_gone_after_s = 0.0;
   std::ostringstream out;
-  RunRender(render, out);
-  try {
-    RunValidate(ValidateClip(render, "report"), out);
-    FAIL() << "validated a video without its tag";
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("found no tag36h11 tag in the first"),
-              std::string::npos)
-        << message;
-    EXPECT_NE(message.find("is id 3; put the tag in view"), std::string::npos)
-        << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  RenderClip(render);
+  const std::string message =
+      InputErrorOf([&] { RunValidate(ValidateClip(render, "report"), out); });
+  EXPECT_NE(message.find("found no tag36h11 tag in the first"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("is id 3; put the tag in view"), std::string::npos)
+      << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(Path("report")));
 }
 
@@ -704,14 +650,8 @@ TEST_F(ValidateCommandTest, WindowsOnlyNeedsThePlansTimes) {
   options.windows_only = true;
   options.quiet = true;
   std::ostringstream out;
-  try {
-    RunValidate(options, out);
-    ADD_FAILURE() << "--windows-only without times was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("needs the test times"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string message = InputErrorOf([&] { RunValidate(options, out); });
+  EXPECT_NE(message.find("needs the test times"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(Path("report")));
 }
 
@@ -770,13 +710,8 @@ TEST_F(ValidateCommandTest, AlignsAPressureLogWithAClockOffset) {
     wrong.replace(at, 6, ",6,5,0");
   }
   options.pressure_log_path = Write("wrong.csv", wrong);
-  try {
-    RunValidate(options, out);
-    ADD_FAILURE() << "a log that disagrees with the plan was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("plan test 't1a'"), std::string::npos)
-        << e.what();
-  }
+  const std::string message = InputErrorOf([&] { RunValidate(options, out); });
+  EXPECT_NE(message.find("plan test 't1a'"), std::string::npos) << message;
 }
 
 // The same on the phone sample: variable frame rate, portrait, HDR, a

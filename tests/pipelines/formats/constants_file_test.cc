@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/input_error_matchers.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -22,34 +23,31 @@ TEST(ConstantsFile, SampleFileHoldsTheThesisConstants) {
   EXPECT_EQ(file.variant, "small-angle");
 }
 
-std::string ErrorOf(const std::string& yaml) {
-  try {
-    ParseConstantsYaml(yaml, "c.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+std::string ConstantsError(const std::string& yaml) {
+  return InputErrorOf([&] { ParseConstantsYaml(yaml, "c.yaml"); });
 }
 
 TEST(ConstantsFile, ErrorsNameTheKey) {
   const std::string base =
       "axial_area_mm2: 150\nshear_area_factor_mm2_per_rad: 100\n"
       "linear_stiffness_n_per_mm: 2.5\n";
-  EXPECT_NE(ErrorOf(base).find("torsional_factor_n_per_rad: missing"),
+  EXPECT_NE(ConstantsError(base).find("torsional_factor_n_per_rad: missing"),
             std::string::npos)
-      << ErrorOf(base);
-  EXPECT_EQ(ErrorOf(base + "torsional_factor_n_per_rad: 20\n"), "");
-  EXPECT_NE(ErrorOf(base + "torsional_factor_n_per_rad: 20\nk_s: 3\n")
+      << ConstantsError(base);
+  EXPECT_EQ(ConstantsError(base + "torsional_factor_n_per_rad: 20\n"), "");
+  EXPECT_NE(ConstantsError(base + "torsional_factor_n_per_rad: 20\nk_s: 3\n")
                 .find("c.yaml:5: k_s: unknown key"),
             std::string::npos);
-  EXPECT_NE(ErrorOf(base + "torsional_factor_n_per_rad: 20\nvariant: exact\n")
-                .find("'exact' is not one of"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf("axial_area_mm2: 150\nshear_area_factor_mm2_per_rad: 1\n"
-                    "linear_stiffness_n_per_mm: -2\n"
-                    "torsional_factor_n_per_rad: 20\n")
-                .find("k_s must be"),
-            std::string::npos);
+  EXPECT_NE(
+      ConstantsError(base + "torsional_factor_n_per_rad: 20\nvariant: exact\n")
+          .find("'exact' is not one of"),
+      std::string::npos);
+  EXPECT_NE(
+      ConstantsError("axial_area_mm2: 150\nshear_area_factor_mm2_per_rad: 1\n"
+                     "linear_stiffness_n_per_mm: -2\n"
+                     "torsional_factor_n_per_rad: 20\n")
+          .find("k_s must be"),
+      std::string::npos);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include "model/equilibrium.h"
 #include "tests/model/thesis_mechanisms.h"
+#include "tests/support/input_error_matchers.h"
 #include "util/input_error.h"
 #include "util/text_file.h"
 
@@ -42,13 +43,8 @@ TEST(MechanismIo, BuiltinNamesReadTheSampleFiles) {
 }
 
 // The message thrown for `yaml`, or "" when it parses.
-std::string ErrorOf(const std::string& yaml) {
-  try {
-    ParseMechanismYaml(yaml, "m.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+std::string MechanismError(const std::string& yaml) {
+  return InputErrorOf([&] { ParseMechanismYaml(yaml, "m.yaml"); });
 }
 
 constexpr char kValid[] = R"(name: one
@@ -61,66 +57,68 @@ actuators:
 )";
 
 TEST(MechanismIo, ParsesAUserWrittenFile) {
-  EXPECT_EQ(ErrorOf(kValid), "");
+  EXPECT_EQ(MechanismError(kValid), "");
   EXPECT_EQ(ParseMechanismYaml(kValid, "m.yaml").NumActuators(), 1);
 }
 
 TEST(MechanismIo, ErrorsNameTheLineAndTheField) {
   std::string yaml = kValid;
   yaml.replace(yaml.find("anchor: a,"), 10, "anchor: b,");
-  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:7: anchor: 'b' is neither", 0), 0)
-      << ErrorOf(yaml);
+  EXPECT_EQ(MechanismError(yaml).rfind("m.yaml:7: anchor: 'b' is neither", 0),
+            0)
+      << MechanismError(yaml);
 
   yaml = kValid;
   yaml.replace(yaml.find("rotation_deg: 0"), 15, "rotation_deg: up");
-  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:7: rotation_deg: 'up' is not", 0), 0)
-      << ErrorOf(yaml);
+  EXPECT_EQ(
+      MechanismError(yaml).rfind("m.yaml:7: rotation_deg: 'up' is not", 0), 0)
+      << MechanismError(yaml);
 
   yaml = kValid;
   yaml.replace(yaml.find("rest_mm"), 7, "rest");
-  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:3: rest: unknown key", 0), 0)
-      << ErrorOf(yaml);
+  EXPECT_EQ(MechanismError(yaml).rfind("m.yaml:3: rest: unknown key", 0), 0)
+      << MechanismError(yaml);
 
   yaml = kValid;
   yaml.replace(yaml.find("[0, -27]"), 8, "[0, -27");
-  EXPECT_NE(ErrorOf(yaml).find("not valid YAML"), std::string::npos)
-      << ErrorOf(yaml);
+  EXPECT_NE(MechanismError(yaml).find("not valid YAML"), std::string::npos)
+      << MechanismError(yaml);
 
   yaml = kValid;
   yaml.replace(yaml.find("rotation_deg: 0"), 15, "rotation_deg: 90");
-  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:7: actuator '1': rotation_deg 90", 0),
-            0)
-      << ErrorOf(yaml);
-  EXPECT_NE(ErrorOf(yaml).find("set rotation_deg to 0 "), std::string::npos)
-      << ErrorOf(yaml);
+  EXPECT_EQ(
+      MechanismError(yaml).rfind("m.yaml:7: actuator '1': rotation_deg 90", 0),
+      0)
+      << MechanismError(yaml);
+  EXPECT_NE(MechanismError(yaml).find("set rotation_deg to 0 "),
+            std::string::npos)
+      << MechanismError(yaml);
 
-  EXPECT_NE(ErrorOf("name: x\nheads: []\nactuators: []\n").find("heads"),
+  EXPECT_NE(MechanismError("name: x\nheads: []\nactuators: []\n").find("heads"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("- 1\n- 2\n").find("a mechanism file is a map"),
+  EXPECT_NE(MechanismError("- 1\n- 2\n").find("a mechanism file is a map"),
             std::string::npos);
 
   yaml = std::string(kValid) +
          "  - {name: '1', rotation_deg: 0, anchor: a, head: h}\n";
-  EXPECT_EQ(
-      ErrorOf(yaml).rfind("m.yaml:8: name: actuator '1' is named twice", 0), 0)
-      << ErrorOf(yaml);
+  EXPECT_EQ(MechanismError(yaml).rfind(
+                "m.yaml:8: name: actuator '1' is named twice", 0),
+            0)
+      << MechanismError(yaml);
   yaml = std::string(kValid) + "actuators: []\n";
-  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:8: actuators: given twice", 0), 0)
-      << ErrorOf(yaml);
+  EXPECT_EQ(MechanismError(yaml).rfind("m.yaml:8: actuators: given twice", 0),
+            0)
+      << MechanismError(yaml);
   yaml = kValid;
   yaml.replace(yaml.find("- {name: h, rest_mm: [0, 0]}"), 28, "- h");
-  EXPECT_EQ(ErrorOf(yaml).rfind("m.yaml:3: heads entry: must be a map", 0), 0)
-      << ErrorOf(yaml);
+  EXPECT_EQ(
+      MechanismError(yaml).rfind("m.yaml:3: heads entry: must be a map", 0), 0)
+      << MechanismError(yaml);
 }
 
 TEST(MechanismIo, UnknownNameOrMissingFileSaysWhatToGive) {
-  try {
-    LoadMechanism("tripod");
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("'delta', 'floating'"),
-              std::string::npos);
-  }
+  const std::string message = InputErrorOf([&] { LoadMechanism("tripod"); });
+  EXPECT_NE(message.find("'delta', 'floating'"), std::string::npos);
 }
 
 }  // namespace

@@ -5,19 +5,16 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/support/input_error_matchers.h"
+#include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 #include "util/text_file.h"
 
 namespace softbench {
 namespace {
 
-std::string ErrorOf(const std::string& yaml) {
-  try {
-    ParseTestPlan(yaml, "plan.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+std::string PlanError(const std::string& yaml) {
+  return InputErrorOf([&] { ParseTestPlan(yaml, "plan.yaml"); });
 }
 
 constexpr char kBase[] = "mechanism: floating\npressure_unit: psi\ntests:\n";
@@ -72,12 +69,8 @@ TEST(TestPlan, RefusesWindowsLongerThanAHoldOrARestAndOverlappingDots) {
   const std::string t2 =
       "  - {id: b, pressures: [1, 2, 3, 4, 5], actuate_s: 8, release_s: 12}\n";
   const auto windows_error = [&](const std::string& yaml) {
-    try {
-      CheckWindowsFitTheTimes(ParseTestPlan(yaml, "plan.yaml"));
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    return InputErrorOf(
+        [&] { CheckWindowsFitTheTimes(ParseTestPlan(yaml, "plan.yaml")); });
   };
   EXPECT_EQ(windows_error(std::string(kBase) + t1 + t2), "");
   EXPECT_NE(windows_error("windows: {length_s: 6}\n" + std::string(kBase) + t1)
@@ -89,53 +82,55 @@ TEST(TestPlan, RefusesWindowsLongerThanAHoldOrARestAndOverlappingDots) {
           .find("plan.yaml: test b: actuated only 1 s after a's "
                 "release, less than windows.length_s (2 s)"),
       std::string::npos);
-  EXPECT_NE(ErrorOf(std::string(kBase) + t1 +
-                    "markers:\n  - {head: left, color: red, dots: 3, "
-                    "dot_diameter_mm: 4, layout_mm: [[0, 0], [6, 0], [3, 2]]}\n"
-                    "  - {head: right, color: green}\n")
-                .find("layout_mm: dots 1 and 3 are 3.61 mm apart, less than a "
-                      "dot's diameter (4 mm)"),
-            std::string::npos);
+  EXPECT_NE(
+      PlanError(std::string(kBase) + t1 +
+                "markers:\n  - {head: left, color: red, dots: 3, "
+                "dot_diameter_mm: 4, layout_mm: [[0, 0], [6, 0], [3, 2]]}\n"
+                "  - {head: right, color: green}\n")
+          .find("layout_mm: dots 1 and 3 are 3.61 mm apart, less than a "
+                "dot's diameter (4 mm)"),
+      std::string::npos);
 }
 
 TEST(TestPlan, ErrorsNameTheLineAndSayWhatToChange) {
   EXPECT_NE(
-      ErrorOf(std::string(kBase) + "  - {id: a, pressures: [1, 2]}\n")
+      PlanError(std::string(kBase) + "  - {id: a, pressures: [1, 2]}\n")
           .find("plan.yaml:4: pressures: mechanism 'floating' has 5 actuators"),
       std::string::npos);
-  EXPECT_NE(ErrorOf(std::string(kBase) + "  - {id: a, pressures: [1, 2, 3, 4, "
-                                         "5], actuate_s: 3, release_s: 2}\n")
-                .find("release_s: must be later than actuate_s"),
-            std::string::npos);
   EXPECT_NE(
-      ErrorOf(std::string(kBase) + "  - {id: a, pressures: [1, 2, 3, 4, 5], "
-                                   "actuate_s: 1, release_s: 2}\n"
-                                   "  - {id: b, pressures: [1, 2, 3, 4, 5]}\n")
-          .find("some tests have times"),
+      PlanError(std::string(kBase) + "  - {id: a, pressures: [1, 2, 3, 4, "
+                                     "5], actuate_s: 3, release_s: 2}\n")
+          .find("release_s: must be later than actuate_s"),
       std::string::npos);
-  EXPECT_NE(ErrorOf("mechanism: tripod\npressure_unit: psi\ntests: []\n")
+  EXPECT_NE(PlanError(std::string(kBase) +
+                      "  - {id: a, pressures: [1, 2, 3, 4, 5], "
+                      "actuate_s: 1, release_s: 2}\n"
+                      "  - {id: b, pressures: [1, 2, 3, 4, 5]}\n")
+                .find("some tests have times"),
+            std::string::npos);
+  EXPECT_NE(PlanError("mechanism: tripod\npressure_unit: psi\ntests: []\n")
                 .find("plan.yaml:1: mechanism:"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: atm\ntests: []\n")
+  EXPECT_NE(PlanError("mechanism: delta\npressure_unit: atm\ntests: []\n")
                 .find("pressure_unit: must be psi, kpa, mpa or bar"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\nmarkers:\n"
-                    "  - {head: head, color: purple}\ntests:\n"
-                    "  - {id: a, pressures: [1, 2, 3]}\n")
+  EXPECT_NE(PlanError("mechanism: delta\npressure_unit: psi\nmarkers:\n"
+                      "  - {head: head, color: purple}\ntests:\n"
+                      "  - {id: a, pressures: [1, 2, 3]}\n")
                 .find("'purple' is not one of"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\ntest:\n")
+  EXPECT_NE(PlanError("mechanism: delta\npressure_unit: psi\ntest:\n")
                 .find("unknown key"),
             std::string::npos);
   const std::string delta_test = "tests:\n  - {id: a, pressures: [1, 2, 3]}\n";
-  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\ncalibration:\n"
-                    "  tag: {id: 1}\n  mm_per_px: 0.2\n" +
-                    delta_test)
+  EXPECT_NE(PlanError("mechanism: delta\npressure_unit: psi\ncalibration:\n"
+                      "  tag: {id: 1}\n  mm_per_px: 0.2\n" +
+                      delta_test)
                 .find("give one scale: tag, mm_per_px or scale_from_dots"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("mechanism: delta\npressure_unit: psi\nmarkers:\n"
-                    "  - {head: head, hsv: [0, 200, 0, 255, 0, 255]}\n" +
-                    delta_test)
+  EXPECT_NE(PlanError("mechanism: delta\npressure_unit: psi\nmarkers:\n"
+                      "  - {head: head, hsv: [0, 200, 0, 255, 0, 255]}\n" +
+                      delta_test)
                 .find("plan.yaml:4: hsv: hue bounds must be 0..179"),
             std::string::npos);
 }
@@ -198,8 +193,8 @@ TEST(TestPlan, WrongShapesAreLocatedErrorsNeverYamlCppExceptions) {
        "plan.yaml:4: pressures: -1 psi is negative"},
   };
   for (const auto& c : cases) {
-    EXPECT_NE(ErrorOf(c.yaml).find(c.expected), std::string::npos)
-        << ErrorOf(c.yaml) << "\nfor:\n"
+    EXPECT_NE(PlanError(c.yaml).find(c.expected), std::string::npos)
+        << PlanError(c.yaml) << "\nfor:\n"
         << c.yaml.substr(0, 200);
   }
 }
@@ -207,18 +202,12 @@ TEST(TestPlan, WrongShapesAreLocatedErrorsNeverYamlCppExceptions) {
 TEST(TestPlan, LoadRefusesDevicesAndHugeFilesBeforeReading) {
   EXPECT_THROW(LoadTestPlan("/dev/zero"), InputError);
   const std::string path =
-      (std::filesystem::temp_directory_path() / "softbench_huge_plan.yaml")
-          .string();
+      (TestScratch().dir() / "softbench_huge_plan.yaml").string();
   std::ofstream(path) << "mechanism: delta\n# " << std::string(5 << 20, 'x')
                       << "\n";
-  try {
-    LoadTestPlan(path);
-    FAIL() << "a 5 MB plan was read";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("is too large for a test plan"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string message = InputErrorOf([&] { LoadTestPlan(path); });
+  EXPECT_NE(message.find("is too large for a test plan"), std::string::npos)
+      << message;
 }
 
 TEST(TestPlan, MeasurementKeysRoundTrip) {

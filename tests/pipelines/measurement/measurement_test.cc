@@ -12,8 +12,8 @@
 #include "pipelines/measurement/plan_camera.h"
 #include "pipelines/measurement/video_measurement.h"
 #include "pipelines/synthetic/scene_renderer.h"
+#include "tests/support/rendered_truth.h"
 #include "tests/vision/board_images.h"
-#include "util/csv.h"
 #include "vision/frame_source.h"
 #include "vision/head_tracker.h"
 #include "vision/tag_detector.h"
@@ -322,15 +322,8 @@ void CheckSample(const std::string& name) {
   options.progress = false;
   const VideoMeasurement m =
       MeasureVideo(plan, dir + "/" + name + ".mp4", options);
-  CsvReader truth(dir + "/truth.csv");
-  std::vector<std::vector<double>> rows;
-  std::vector<std::string_view> fields;
-  while (truth.ReadRow(&fields)) {
-    std::vector<double> row;
-    for (std::string_view f : fields) row.push_back(std::stod(std::string(f)));
-    rows.push_back(row);
-  }
-  ASSERT_EQ(rows.size(), m.frames.size());
+  const RenderedTruth truth = ReadRenderedTruth(dir + "/truth.csv");
+  ASSERT_EQ(truth.time_s.size(), m.frames.size());
   EXPECT_EQ(m.missing_dots, 0);
   double worst = 0.0, worst_binary = 0.0;
   for (const PlanTest& t : plan.tests) {
@@ -345,7 +338,7 @@ void CheckSample(const std::string& name) {
           continue;
         measured += m.frames[k].heads[h].displacement_mm;
         binary += m.frames[k].heads[h].binary_displacement_mm;
-        expected += Eigen::Vector2d(rows[k][2 + 4 * h], rows[k][3 + 4 * h]);
+        expected += truth.displacement_mm[k][h];
         ++n;
       }
       ASSERT_GE(n, 25);

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "pipelines/measurement/pressure_log.h"
+#include "tests/support/input_error_matchers.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -122,17 +123,14 @@ TEST(AlignPressureLog, RefusesAClockInMilliseconds) {
     hold.start_s *= 1000.0;
     hold.end_s *= 1000.0;
   }
-  try {
-    AlignPressureLog(holds, detection, "log.csv");
-    FAIL() << "aligned a clock in milliseconds";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "log.csv: the log's holds last 1000 times as long as the "
-                  "heads' motion shows (median over 4 test points): its clock "
-                  "is in milliseconds"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string message =
+      InputErrorOf([&] { AlignPressureLog(holds, detection, "log.csv"); });
+  EXPECT_NE(
+      message.find("log.csv: the log's holds last 1000 times as long as the "
+                   "heads' motion shows (median over 4 test points): its clock "
+                   "is in milliseconds"),
+      std::string::npos)
+      << message;
 }
 
 }  // namespace

@@ -9,7 +9,8 @@
 #include "pipelines/commands/render_command.h"
 #include "pipelines/synthetic/render_timeline.h"
 #include "pipelines/synthetic/scene_renderer.h"
-#include "util/csv.h"
+#include "tests/support/rendered_truth.h"
+#include "tests/support/scratch_directory.h"
 #include "vision/color_transfer.h"
 #include "vision/tag_detector.h"
 #include "vision/video_reader.h"
@@ -196,7 +197,7 @@ TEST(HeadTimeline, SettlesOnTheModelsEquilibriumAndComesBack) {
 }
 
 TEST(RenderCommand, TruthEqualsTheEquilibriumOnceSettled) {
-  const fs::path dir = fs::temp_directory_path() / "softbench_render_cmd";
+  const fs::path dir = TestScratch().dir() / "softbench_render_cmd";
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "plan.yaml") << kPlan;
@@ -218,13 +219,12 @@ TEST(RenderCommand, TruthEqualsTheEquilibriumOnceSettled) {
     ASSERT_TRUE(solver.Solve(test.pressures * kMpaPerPsi, &x).converged());
     equilibria.push_back(x);
   }
-  CsvReader truth(options.truth_path);
-  std::vector<std::string_view> f;
-  int settled = 0, rows = 0;
-  while (truth.ReadRow(&f)) {
-    ++rows;
-    const double t = *ParseDouble(f[1]);
-    const Eigen::Vector2d y(*ParseDouble(f[2]), *ParseDouble(f[3]));
+  const RenderedTruth truth = ReadRenderedTruth(options.truth_path);
+  int settled = 0;
+  const int rows = static_cast<int>(truth.time_s.size());
+  for (int k = 0; k < rows; ++k) {
+    const double t = truth.time_s[k];
+    const Eigen::Vector2d y = truth.displacement_mm[k][0];
     for (size_t i = 0; i < plan.tests.size(); ++i) {
       // Settled: 15 time constants after actuation, until release.
       if (t > *plan.tests[i].actuate_s + 1.5 && t < *plan.tests[i].release_s) {
@@ -242,7 +242,7 @@ TEST(RenderCommand, TruthEqualsTheEquilibriumOnceSettled) {
 }
 
 TEST(RenderCommand, RendersAreReproducibleFromTheSeed) {
-  const fs::path dir = fs::temp_directory_path() / "softbench_render_seed";
+  const fs::path dir = TestScratch().dir() / "softbench_render_seed";
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "plan.yaml") << kPlan;
