@@ -54,6 +54,10 @@ EXCLUSIVE_HEADERS = [
      "model/ depends on Eigen only (no OpenCV)"),
 ]
 STDOUT = re.compile(r"std::cout|\bprintf\s*\(|\bputs\s*\(|\bstdout\b")
+# Libraries never print: stderr is the command line's (progress, errors).
+STDERR = re.compile(r"std::cerr|std::clog|\bstderr\b|STDERR_FILENO")
+# Header-only helpers every library may include.
+FOR_EVERY_LIBRARY = {"util/check.h", "util/join_names.h"}
 EXCLUSIVE_LINKS = [
     (re.compile(r"CLI11::"), "commands", "only commands/ links CLI11"),
     (re.compile(r"spdlog::"), "commands", "only commands/ links spdlog"),
@@ -101,7 +105,7 @@ def check_sources(root, errors):
             for number, line in enumerate(source.read_text().splitlines(), 1):
                 where = f"{rel}:{number}"
                 m = re.match(r'\s*#include\s*"([^"]+)"', line)
-                if m and m.group(1) != "util/check.h":  # for every library
+                if m and m.group(1) not in FOR_EVERY_LIBRARY:
                     used = library_of_include(m.group(1))
                     if used and used not in allowed:
                         errors.append(f"{where}: {name}/ may not use {used}/ "
@@ -117,6 +121,10 @@ def check_sources(root, errors):
                 code = line.split("//")[0]
                 if name != "commands" and STDOUT.search(code):
                     errors.append(f"{where}: only commands/ writes to stdout")
+                if (name != "commands" and STDERR.search(code) and
+                        rel.as_posix() != "util/check.h"):
+                    errors.append(f"{where}: libraries never print; only "
+                                  "commands/ writes to stderr")
 
 
 def check_links(root, errors):

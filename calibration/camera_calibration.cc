@@ -14,7 +14,7 @@ namespace softbench {
 // An OpenCV intrinsics file is under a kilobyte.
 constexpr int64_t kMaxIntrinsicsBytes = int64_t{1} << 20;
 
-std::optional<std::string> BoardOptions::Check() const {
+std::optional<std::string> BoardOptions::Problem() const {
   if (corners_x < 3 || corners_y < 3) {
     return "the board needs at least 3 x 3 inner corners";
   }
@@ -26,8 +26,8 @@ std::optional<std::string> BoardOptions::Check() const {
   return std::nullopt;
 }
 
-std::optional<std::string> CameraCalibrationOptions::Check() const {
-  if (auto problem = board.Check()) return problem;
+std::optional<std::string> CameraCalibrationOptions::Problem() const {
+  if (auto problem = board.Problem()) return problem;
   if (min_views < 3) return "min_views must be >= 3";
   return std::nullopt;
 }

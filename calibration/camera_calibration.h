@@ -34,7 +34,7 @@ struct BoardOptions {
   int corners_y = 6;
   double square_mm = 10.0;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // The board's inner corners in one grey image (8 or 16-bit), refined to
@@ -63,7 +63,7 @@ struct CameraCalibrationOptions {
   // k1/k2 and overfits.
   bool fit_k3 = false;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 struct CameraCalibrationSummary {

@@ -118,7 +118,7 @@ int FitModel::NumFree() const {
   return count;
 }
 
-std::optional<std::string> ForceFitOptions::Check() const {
+std::optional<std::string> ForceFitOptions::Problem() const {
   if (!(axial_weight >= 0.0) || !(shear_weight >= 0.0) ||
       !std::isfinite(axial_weight) || !std::isfinite(shear_weight) ||
       axial_weight + shear_weight == 0.0) {
@@ -414,7 +414,7 @@ ForceFitSummary FitForceModel(const FitModel& fit_model,
                               const std::vector<ForceTest>& tests,
                               const std::vector<ForceRow>& rows,
                               const ForceFitOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   ForceFitSummary summary;
   summary.model_name = fit_model.name;
   const NormalEquations equations =

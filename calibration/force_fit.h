@@ -60,7 +60,7 @@ struct ForceFitOptions {
   // not determined by the tests; the fit says so instead of printing it.
   double max_relative_standard_error = 0.25;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // Goodness of fit in one direction, in the thesis's terms (section 3.3).

@@ -193,13 +193,13 @@ void FinishTest(const std::string& path, const ForceLogReadOptions& options,
 }
 
 void CheckOptions(const ForceLogReadOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
 }
 
 }  // namespace
 
-std::optional<std::string> ForceLogReadOptions::Check() const {
-  if (std::optional<std::string> problem = binning.Check()) return problem;
+std::optional<std::string> ForceLogReadOptions::Problem() const {
+  if (std::optional<std::string> problem = binning.Problem()) return problem;
   if (!(max_abs_force_n > 0.0)) return "max_abs_force_n must be > 0";
   if (!(min_pressure_mpa < max_pressure_mpa)) {
     return "min_pressure_mpa must be below max_pressure_mpa";

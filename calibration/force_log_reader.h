@@ -46,7 +46,7 @@ struct ForceLogReadOptions {
   // The numbers' decimal mark, as the user declared it (--decimal-comma).
   DecimalMark decimal_mark = DecimalMark::kPoint;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // A row kept for the row-wise fit.

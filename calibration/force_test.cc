@@ -9,7 +9,7 @@
 
 namespace softbench {
 
-std::optional<std::string> ForceBinningOptions::Check() const {
+std::optional<std::string> ForceBinningOptions::Problem() const {
   if (!(zero_pressure_mpa >= 0.0) || !std::isfinite(zero_pressure_mpa)) {
     return "zero_pressure_mpa must be a finite number >= 0";
   }

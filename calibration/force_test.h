@@ -29,7 +29,7 @@ struct ForceBinningOptions {
   double bin_width_mpa = 0.001;
 
   // Empty when usable; otherwise names the bad field.
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // What a fit needs of one test's rows: centred moments per ramp phase and

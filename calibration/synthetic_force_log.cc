@@ -32,7 +32,7 @@ std::vector<double> ForceProtocol::Levels() const {
   return levels;
 }
 
-std::optional<std::string> ForceProtocol::Check() const {
+std::optional<std::string> ForceProtocol::Problem() const {
   if (configurations.empty()) return "the protocol has no configurations";
   if (repeats < 1) return "repeats must be >= 1";
   if (!(step_up_mpa > 0.0) || !(step_down_mpa > 0.0) || !(top_mpa > 0.0)) {
@@ -55,9 +55,9 @@ SyntheticForceLogOptions SyntheticForceLogOptions::NoiseOnly(
   return options;
 }
 
-std::optional<std::string> SyntheticForceLogOptions::Check() const {
-  if (std::optional<std::string> problem = protocol.Check()) return problem;
-  if (std::optional<std::string> problem = model.constants.Check()) {
+std::optional<std::string> SyntheticForceLogOptions::Problem() const {
+  if (std::optional<std::string> problem = protocol.Problem()) return problem;
+  if (std::optional<std::string> problem = model.constants.Problem()) {
     return problem;
   }
   if (!(sample_rate_hz > 0.0) || sample_rate_hz > 1e6) {

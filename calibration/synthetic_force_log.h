@@ -32,7 +32,7 @@ struct ForceProtocol {
   // The held pressure levels of one test, in order: 0, up to the top, down
   // to 0.
   std::vector<double> Levels() const;
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // A synthetic force/torque log from known constants, with the imperfections
@@ -68,7 +68,7 @@ struct SyntheticForceLogOptions {
 
   // Only sensor noise: the model is then exactly right.
   static SyntheticForceLogOptions NoiseOnly(const ForceModel& model);
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // One test of the synthetic protocol.

@@ -3,11 +3,11 @@
 #include <cmath>
 #include <vector>
 
-#include "model/names.h"
+#include "util/join_names.h"
 
 namespace softbench {
 
-std::optional<std::string> ActuatorConstants::Check() const {
+std::optional<std::string> ActuatorConstants::Problem() const {
   const auto finite_non_negative = [](double value) {
     return std::isfinite(value) && value >= 0.0;
   };

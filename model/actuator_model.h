@@ -26,7 +26,7 @@ struct ActuatorConstants {
 
   // Empty when every constant is finite and physically meaningful; otherwise a
   // sentence naming the offending constant.
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // How the static-offset terms resolve the deformation into axial and shear

@@ -6,7 +6,7 @@
 
 namespace softbench {
 
-std::optional<std::string> CharacterisedRange::Check() const {
+std::optional<std::string> CharacterisedRange::Problem() const {
   for (const double limit :
        {max_pressure_mpa, max_abs_delta_length_mm, max_abs_theta_rad}) {
     if (!(limit > 0.0) || !std::isfinite(limit)) {

@@ -21,7 +21,7 @@ struct CharacterisedRange {
   double max_abs_theta_rad = DegToRad(30.0);
 
   // Empty when every limit is finite and > 0; else names the limit.
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // Why `pressures_mpa` lie outside `range` (the first pressure above it), or

@@ -14,7 +14,7 @@ namespace softbench {
 EquilibriumProblem::EquilibriumProblem(const Mechanism& mechanism,
                                        const ForceModel& model)
     : mechanism_(mechanism), model_(model) {
-  SOFTBENCH_CHECK(!mechanism_.Check() && !model_.constants.Check())
+  SOFTBENCH_CHECK(!mechanism_.Problem() && !model_.constants.Problem())
       << "EquilibriumSolver needs a checked mechanism and constants";
   links_.reserve(mechanism_.actuators.size());
   for (const Actuator& actuator : mechanism_.actuators) {
@@ -156,7 +156,7 @@ std::vector<Deformation> EquilibriumProblem::Deformations(
   return out;
 }
 
-std::optional<std::string> EquilibriumOptions::Check() const {
+std::optional<std::string> EquilibriumOptions::Problem() const {
   if (!(function_tolerance_n > 0.0)) return "function_tolerance_n must be > 0";
   if (max_iterations < 1) return "max_iterations must be >= 1";
   if (max_step_halvings < 0) return "max_step_halvings must be >= 0";
@@ -197,7 +197,7 @@ EquilibriumSolver::EquilibriumSolver(const EquilibriumProblem& problem,
       curvature_(problem.NumUnknowns(), problem.NumActuators()),
       has_curvature_(problem.NumActuators(), false),
       lu_(problem.NumUnknowns()) {
-  SOFTBENCH_CHECK(!options_.Check()) << *options_.Check();
+  SOFTBENCH_CHECK(!options_.Problem()) << *options_.Problem();
 }
 
 bool EquilibriumSolver::TryDampedStep(const Eigen::VectorXd& pressures_mpa,

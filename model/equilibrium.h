@@ -19,8 +19,8 @@ namespace softbench {
 // feels the opposite force.
 class EquilibriumProblem {
  public:
-  // `mechanism` must pass Mechanism::Check() and `model.constants` must pass
-  // ActuatorConstants::Check(); both are programmer errors otherwise.
+  // `mechanism` must pass Mechanism::Problem() and `model.constants` must pass
+  // ActuatorConstants::Problem(); both are programmer errors otherwise.
   EquilibriumProblem(const Mechanism& mechanism, const ForceModel& model);
 
   const Mechanism& mechanism() const { return mechanism_; }
@@ -72,7 +72,7 @@ struct EquilibriumOptions {
   // search fails; the damping grows tenfold on each rejected attempt.
   int max_damped_attempts = 12;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 enum class EquilibriumTermination {

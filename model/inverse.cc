@@ -68,20 +68,20 @@ class TargetCost : public ceres::CostFunction {
 
 }  // namespace
 
-std::optional<std::string> InverseOptions::Check() const {
+std::optional<std::string> InverseOptions::Problem() const {
   if (!(max_pressure_mpa > 0.0) || !std::isfinite(max_pressure_mpa)) {
     return "max_pressure_mpa must be a finite number > 0";
   }
   if (!(reach_tolerance_mm > 0.0)) return "reach_tolerance_mm must be > 0";
   if (!(pressure_weight >= 0.0)) return "pressure_weight must be >= 0";
   if (max_iterations < 1) return "max_iterations must be >= 1";
-  return equilibrium.Check();
+  return equilibrium.Problem();
 }
 
 InverseResult SolvePressuresForTarget(const EquilibriumProblem& problem,
                                       const Eigen::VectorXd& target_mm,
                                       const InverseOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   SOFTBENCH_CHECK(target_mm.size() == problem.NumUnknowns())
       << "target of " << target_mm.size() << " values for "
       << problem.NumUnknowns() << " unknowns";

@@ -27,7 +27,7 @@ struct InverseOptions {
   int max_iterations = 200;
   EquilibriumOptions equilibrium;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 struct InverseResult {

@@ -51,7 +51,7 @@ double Mechanism::RestAxisRotation(const Actuator& actuator) const {
   return std::atan2(-axis.x(), axis.y());
 }
 
-std::optional<MechanismProblem> Mechanism::Check() const {
+std::optional<MechanismProblem> Mechanism::Problem() const {
   if (heads.empty()) return MechanismProblem{"the mechanism has no heads"};
   if (actuators.empty()) {
     return MechanismProblem{"the mechanism has no actuators"};

@@ -39,7 +39,7 @@ struct Actuator {
   int head = 0;  // index into Mechanism::heads
 };
 
-// What Mechanism::Check() found wrong, and where.
+// What Mechanism::Problem() found wrong, and where.
 struct MechanismProblem {
   std::string message;
   int actuator = -1;  // index of the actuator at fault, or -1
@@ -77,7 +77,7 @@ struct Mechanism {
   // valid indices, no actuator from a head to itself, finite coordinates, a
   // positive rest length, the declared rotation along the rest axis, and
   // every head tied (possibly through other heads) to a fixed anchor.
-  std::optional<MechanismProblem> Check() const;
+  std::optional<MechanismProblem> Problem() const;
 };
 
 // Rx(phi) acting on (y, z): [[cos, -sin], [sin, cos]] (model.md, Eq. 4.1-4.3).

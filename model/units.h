@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "model/names.h"
+#include "util/join_names.h"
 
 namespace softbench {
 

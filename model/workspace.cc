@@ -68,7 +68,7 @@ std::vector<double> EvenPressureLevels(double max_mpa, int num_intervals) {
   return levels;
 }
 
-std::optional<std::string> WorkspaceOptions::Check() const {
+std::optional<std::string> WorkspaceOptions::Problem() const {
   if (pressure_levels_mpa.empty()) return "no pressure levels given";
   for (double level : pressure_levels_mpa) {
     if (!std::isfinite(level) || level < 0.0) {
@@ -76,7 +76,7 @@ std::optional<std::string> WorkspaceOptions::Check() const {
     }
   }
   if (num_threads < 0) return "num_threads must be >= 0";
-  return equilibrium.Check();
+  return equilibrium.Problem();
 }
 
 std::vector<HeadExtents> WorkspaceMap::Extents() const {
@@ -104,7 +104,7 @@ WorkspaceMap ComputeWorkspace(const EquilibriumProblem& problem,
 
 void ComputeWorkspace(const EquilibriumProblem& problem,
                       const WorkspaceOptions& options, WorkspaceMap* map_out) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   const int radix = static_cast<int>(options.pressure_levels_mpa.size());
   const int num_actuators = problem.NumActuators();
   const int n = problem.NumUnknowns();

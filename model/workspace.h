@@ -25,7 +25,7 @@ struct WorkspaceOptions {
   // workers that solve it.
   std::optional<CharacterisedRange> range;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // num_intervals + 1 levels from 0 to max_mpa inclusive, evenly spaced (level

@@ -1,60 +1,20 @@
 #include "util/progress.h"
 
-#include <unistd.h>
-
-#include <cstdio>
+#include <atomic>
 
 namespace softbench {
+namespace {
 
-ProgressBar::ProgressBar(std::string label, int64_t total, bool enabled)
-    : label_(std::move(label)),
-      total_(total > 0 ? total : 1),
-      enabled_(enabled),
-      terminal_(isatty(STDERR_FILENO) != 0),
-      start_(std::chrono::steady_clock::now()),
-      last_draw_(start_) {}
+std::atomic<ProgressSink*> g_sink{nullptr};
 
-ProgressBar::~ProgressBar() { Finish(); }
+}  // namespace
 
-void ProgressBar::Update(int64_t done) {
-  if (!enabled_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - start_ < std::chrono::seconds(1)) return;
-  if (terminal_) {
-    if (now - last_draw_ < std::chrono::milliseconds(100) && done < total_)
-      return;
-  } else {
-    const int decile = static_cast<int>(10 * done / total_);
-    if (decile == last_decile_) return;
-    last_decile_ = decile;
-  }
-  last_draw_ = now;
-  Draw(done);
-}
+void SetProgressSink(ProgressSink* sink) { g_sink.store(sink); }
 
-void ProgressBar::Draw(int64_t done) {
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
-          .count();
-  const double rate = done / std::max(elapsed, 1e-9);
-  const double eta = rate > 0 ? (total_ - done) / rate : 0.0;
-  constexpr int kWidth = 30;
-  const int filled = static_cast<int>(kWidth * done / total_);
-  std::string bar(filled, '#');
-  bar.resize(kWidth, '.');
-  std::fprintf(stderr, "%s%s [%s] %3d%% %lld/%lld, %.1f/s, %d:%02d left%s",
-               terminal_ ? "\r" : "", label_.c_str(), bar.c_str(),
-               static_cast<int>(100 * done / total_),
-               static_cast<long long>(done), static_cast<long long>(total_),
-               rate, static_cast<int>(eta) / 60, static_cast<int>(eta) % 60,
-               terminal_ ? "" : "\n");
-  std::fflush(stderr);
-  drawn_ = true;
-}
-
-void ProgressBar::Finish() {
-  if (drawn_ && terminal_) std::fputc('\n', stderr);
-  drawn_ = false;
+ProgressBar::ProgressBar(const std::string& label, int64_t total,
+                         bool enabled) {
+  ProgressSink* sink = g_sink.load();
+  if (enabled && sink != nullptr) line_ = sink->Begin(label, total);
 }
 
 }  // namespace softbench

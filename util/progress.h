@@ -1,33 +1,52 @@
 #ifndef SOFTBENCH_UTIL_PROGRESS_H_
 #define SOFTBENCH_UTIL_PROGRESS_H_
 
-#include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace softbench {
 
-// A progress bar on stderr: redrawn in place on a terminal (at most 10 times a
-// second), one line per 10 % otherwise (logs); silent when disabled (--quiet)
-// or when the whole job ends within a second.
+// One piece of long work as the program shows it; ends its line when
+// destroyed.
+class ProgressLine {
+ public:
+  virtual ~ProgressLine() = default;
+  virtual void Update(int64_t done) = 0;
+};
+
+// Where progress goes. Libraries never print: they report through
+// ProgressBar, and the program installs the one sink that shows it (the
+// command line draws bars on stderr: pipelines/commands/stderr_progress.h).
+// Without a sink (tests, other programs using the libraries) nothing is
+// shown.
+class ProgressSink {
+ public:
+  virtual ~ProgressSink() = default;
+  virtual std::unique_ptr<ProgressLine> Begin(const std::string& label,
+                                              int64_t total) = 0;
+};
+
+// Installs `sink` for the whole process (nullptr: none); not owned.
+void SetProgressSink(ProgressSink* sink);
+
+// How far one piece of long work has got: `done` of `total` units. Shown by
+// the installed sink when `enabled` (false under --quiet).
 class ProgressBar {
  public:
-  ProgressBar(std::string label, int64_t total, bool enabled);
-  ~ProgressBar();
-  void Update(int64_t done);
+  ProgressBar(const std::string& label, int64_t total, bool enabled);
+  ~ProgressBar() = default;
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+
+  void Update(int64_t done) {
+    if (line_ != nullptr) line_->Update(done);
+  }
   // Ends the bar's line.
-  void Finish();
+  void Finish() { line_.reset(); }
 
  private:
-  void Draw(int64_t done);
-
-  std::string label_;
-  int64_t total_;
-  bool enabled_;
-  bool terminal_;
-  bool drawn_ = false;
-  int last_decile_ = -1;
-  std::chrono::steady_clock::time_point start_, last_draw_;
+  std::unique_ptr<ProgressLine> line_;
 };
 
 }  // namespace softbench

@@ -13,9 +13,9 @@
 
 namespace softbench {
 
-std::optional<std::string> BenchRegistrationOptions::Check() const {
-  if (auto problem = tag.Check()) return problem;
-  if (auto problem = patches.Check()) return problem;
+std::optional<std::string> BenchRegistrationOptions::Problem() const {
+  if (auto problem = tag.Problem()) return problem;
+  if (auto problem = patches.Problem()) return problem;
   if (max_refits < 1) return "max_refits must be >= 1";
   if (!(refit_tolerance_px > 0.0)) return "refit_tolerance_px must be > 0";
   if (!(max_edge_rms_px > 0.0)) return "max_edge_rms_px must be > 0";
@@ -43,7 +43,7 @@ double LargestMove(const std::array<Eigen::Vector2d, 4>& a,
 
 const BenchRegistrationOptions& Checked(const BenchRegistrationOptions& o) {
   // A programmer error: options come from code, not from users.
-  SOFTBENCH_CHECK(!o.Check()) << *o.Check();
+  SOFTBENCH_CHECK(!o.Problem()) << *o.Problem();
   return o;
 }
 

@@ -47,7 +47,7 @@ struct BenchRegistrationOptions {
   // out rather than measured against a doubtful registration.
   double max_residual_px = 0.2;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // The tag in the reference frame.

@@ -27,7 +27,7 @@ cv::Matx33d CameraIntrinsics::CameraMatrix() const {
   return {fx_px, 0.0, cx_px, 0.0, fy_px, cy_px, 0.0, 0.0, 1.0};
 }
 
-std::optional<std::string> CameraIntrinsics::Check() const {
+std::optional<std::string> CameraIntrinsics::Problem() const {
   if (width_px < 16 || height_px < 16 || width_px > 16384 ||
       height_px > 16384) {
     return "resolution must be between 16 and 16384 pixels per side";

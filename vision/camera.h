@@ -29,7 +29,7 @@ struct CameraIntrinsics {
                                                     int height_px);
 
   cv::Matx33d CameraMatrix() const;
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // A camera above the mechanism. World frame (mm): X = the mechanism's y, Y =

@@ -11,7 +11,7 @@
 
 namespace softbench {
 
-std::optional<std::string> CameraPathOptions::Check() const {
+std::optional<std::string> CameraPathOptions::Problem() const {
   if (!(step_px > 0.0)) return "step_px must be > 0";
   if (step_frames < 2) return "step_frames must be >= 2";
   if (transition_frames < 0) return "transition_frames must be >= 0";
@@ -192,7 +192,7 @@ std::vector<CameraMotion> SmoothCameraPath(const CameraIntrinsics& intrinsics,
                                            const std::vector<bool>& valid,
                                            double max_gap_s,
                                            const CameraPathOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   std::vector<CameraMotion> out = raw;
   std::vector<int> frames;
   std::vector<bool> gap_before;

@@ -31,7 +31,7 @@ struct CameraPathOptions {
   // 30-frame window's median costs it 0.002 px.
   double tremor_px = 0.01;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // The camera's path through a video from each frame's own registration.

@@ -22,7 +22,7 @@ bool HsvRange::Contains(const cv::Vec3b& hsv) const {
          hsv[2] >= value_low && hsv[2] <= value_high;
 }
 
-std::optional<std::string> SegmentationOptions::Check() const {
+std::optional<std::string> SegmentationOptions::Problem() const {
   if (!(dot_radius_px >= 1.5)) {
     return fmt::format(
         "the expected dot radius is {:.2f} px; dots need a radius of at "

@@ -47,7 +47,7 @@ struct SegmentationOptions {
   // Area over bounding-box area; a disk is pi/4 = 0.785.
   double min_fill = 0.55;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // One connected component of a colour mask.

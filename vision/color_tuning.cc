@@ -102,7 +102,7 @@ cv::Mat Overlay(const cv::Mat& bgr, const cv::Mat& mask,
 
 }  // namespace
 
-std::optional<std::string> ColorTuningOptions::Check() const {
+std::optional<std::string> ColorTuningOptions::Problem() const {
   // A dot wider than a 4K frame is no dot.
   if (!(dot_radius_px >= 0.0 && dot_radius_px <= 2000.0)) {
     return "dot_radius_px must be 0 (estimate) to 2000 px";
@@ -115,7 +115,7 @@ std::optional<std::string> ColorTuningOptions::Check() const {
 
 ColorTuning TuneColor(const cv::Mat& bgr, const HsvRange& range,
                       const ColorTuningOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   SOFTBENCH_CHECK(bgr.type() == CV_8UC3) << "TuneColor takes 8-bit BGR";
   ColorTuning tuning;
   tuning.mask = ColorMask(bgr, range);

@@ -20,7 +20,7 @@ struct ColorTuningOptions {
   // ink vary by 1-2 units across a frame.
   double max_hue_difference = 4.0;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // One frame's colour segmentation made visible, and HSV bounds learned from

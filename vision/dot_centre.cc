@@ -11,7 +11,7 @@
 
 namespace softbench {
 
-std::optional<std::string> DotCentreOptions::Check() const {
+std::optional<std::string> DotCentreOptions::Problem() const {
   if (!(window_margin_px >= 0.5)) return "window_margin_px must be >= 0.5";
   if (!(background_width_px >= 1.0)) return "background_width_px must be >= 1";
   if (max_iterations < 1) return "max_iterations must be >= 1";

@@ -33,7 +33,7 @@ struct DotCentreOptions {
   // SDR image's.
   LumaEncoding luma_encoding;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // A dot centre located from the full-resolution luma.

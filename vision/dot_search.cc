@@ -8,7 +8,7 @@
 
 namespace softbench {
 
-std::optional<std::string> DotSearchOptions::Check() const {
+std::optional<std::string> DotSearchOptions::Problem() const {
   if (!(min_coarse_radius_px >= 1.5)) {
     return "min_coarse_radius_px must be >= 1.5 (smaller dots vanish in the "
            "cleaning)";

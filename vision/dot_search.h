@@ -18,7 +18,7 @@ struct DotSearchOptions {
   double min_coarse_radius_px = 3.5;
   int max_reduction = 4;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // The reduction SearchDots uses for dots of `dot_radius_px`.

@@ -10,8 +10,8 @@
 
 namespace softbench {
 
-std::optional<std::string> HeadTrackerOptions::Check() const {
-  if (auto problem = centre.Check()) return problem;
+std::optional<std::string> HeadTrackerOptions::Problem() const {
+  if (auto problem = centre.Problem()) return problem;
   if (!(relocate_radius_factor >= 0.0)) {
     return "relocate_radius_factor must be >= 0";
   }
@@ -19,7 +19,7 @@ std::optional<std::string> HeadTrackerOptions::Check() const {
     return "search_radius_factor must be >= 1.2 (the region must hold a dot)";
   }
   if (!(layout_tolerance_mm > 0.0)) return "layout_tolerance_mm must be > 0";
-  return search.Check();
+  return search.Problem();
 }
 
 namespace {

@@ -47,7 +47,7 @@ struct HeadTrackerOptions {
   // for benchmarks and checks.
   bool full_frame_every_frame = false;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // One dot in one frame. Identities follow the plan's layout order.

@@ -12,7 +12,7 @@
 
 namespace softbench {
 
-std::optional<std::string> StaticPatchOptions::Check() const {
+std::optional<std::string> StaticPatchOptions::Problem() const {
   if (!(cell_px >= 8.0)) return "cell_px must be >= 8";
   if (max_patches < 0) return "max_patches must be >= 0";
   if (half_size_px < 3) return "half_size_px must be >= 3";
@@ -28,7 +28,7 @@ std::optional<std::string> StaticPatchOptions::Check() const {
 StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
                              const StaticPatchOptions& options)
     : options_(options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   const int h = options.half_size_px, side = 2 * h + 1;
   const cv::Mat image = LumaAsFloat(luma);
   const cv::Mat light = LinearLumaAsFloat(

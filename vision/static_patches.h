@@ -42,7 +42,7 @@ struct StaticPatchOptions {
   // in codes, so the choice does not depend on the curve.
   LumaEncoding luma_encoding;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // One patch in one frame.

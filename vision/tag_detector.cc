@@ -14,7 +14,7 @@
 
 namespace softbench {
 
-std::optional<std::string> TagDetectorOptions::Check() const {
+std::optional<std::string> TagDetectorOptions::Problem() const {
   if (!(edge_half_width_px >= 2.0)) return "edge_half_width_px must be >= 2";
   if (!(quad_decimate >= 1.0f)) return "quad_decimate must be >= 1";
   return std::nullopt;
@@ -159,7 +159,7 @@ struct TagDetector::Apriltag {
 
 TagDetector::TagDetector(const TagDetectorOptions& options)
     : options_(options), apriltag_(std::make_unique<Apriltag>()) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   // Up to one corrected bit error: the two-bit table costs ~0.1 s to build,
   // and a tag big enough to measure by reads cleanly.
   apriltag_detector_add_family_bits(apriltag_->detector, apriltag_->family, 1);

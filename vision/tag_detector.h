@@ -29,7 +29,7 @@ struct TagDetectorOptions {
   // is an SDR image's.
   LumaEncoding luma_encoding;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 struct TagDetection {

@@ -18,7 +18,7 @@ extern "C" {
 
 namespace softbench {
 
-std::optional<std::string> VideoWriterOptions::Check() const {
+std::optional<std::string> VideoWriterOptions::Problem() const {
   if (codec != "h264" && codec != "hevc") {
     return "codec must be h264 or hevc";
   }
@@ -145,7 +145,7 @@ struct VideoWriter::State {
 VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
                          const VideoWriterOptions& options)
     : state_(std::make_unique<State>()) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   State& s = *state_;
   s.path = path;
   s.options = options;

@@ -45,7 +45,7 @@ struct VideoWriterOptions {
   // rate; iPhones use 600).
   int time_base_hz = 0;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // Encodes BGR frames into MP4, or QuickTime MOV for a ".mov" path (H.264 or

@@ -108,9 +108,9 @@ std::vector<ForceRow> ReadLogs(const FitAnalysisOptions& options,
 
 }  // namespace
 
-std::optional<std::string> FitAnalysisOptions::Check() const {
+std::optional<std::string> FitAnalysisOptions::Problem() const {
   if (input_path.empty()) return "input_path: give a manifest or a CSV";
-  if (auto problem = fit.Check()) return "fit: " + *problem;
+  if (auto problem = fit.Problem()) return "fit: " + *problem;
   if (robust_rows < 1000) return "robust_rows: keep at least 1000 rows";
   if (!(natural_length_mm > 0.0 && natural_length_mm <= 1000.0)) {
     return "natural_length_mm: must be > 0 and at most 1000 mm (the "
@@ -121,7 +121,7 @@ std::optional<std::string> FitAnalysisOptions::Check() const {
 }
 
 FitRun RunFitAnalysis(const FitAnalysisOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   const auto start = std::chrono::steady_clock::now();
   FitRun run;
   run.input_path = options.input_path;

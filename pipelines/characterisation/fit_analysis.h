@@ -28,12 +28,12 @@ struct FitAnalysisOptions {
   // L0 of the variable-arm variant (Eq. 3.3) [mm].
   double natural_length_mm = 18.5;
   int threads = 0;       // files read at once (0: one per core)
-  bool progress = true;  // a progress bar on stderr while reading
+  bool progress = true;  // report progress (util/progress.h) while reading
   // The logs' decimal mark, as the user declared it (--decimal-comma).
   DecimalMark decimal_mark = DecimalMark::kPoint;
 
   // The first bad field, named, and what it must be.
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // Everything the analysis found: the tests, how reading went, every model's

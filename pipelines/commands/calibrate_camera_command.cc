@@ -78,7 +78,7 @@ int RunCalibrateCamera(const CalibrateCameraCommandOptions& options,
   CameraCalibrationOptions calibration;
   calibration.board = ParseBoardFlag(options.board, options.square_mm);
   calibration.fit_k3 = options.fit_k3;
-  if (auto problem = calibration.Check())
+  if (auto problem = calibration.Problem())
     throw InputError("--board: " + *problem);
   if (!(options.every_s > 0.0)) throw InputError("--every-s: must be > 0");
   CheckOutputFile(options.output_path, "--out");

@@ -125,6 +125,12 @@ void CheckOutputDirectory(const std::string& path, const std::string& option) {
   CheckWritableFolder(FolderOf(path), path, option);
 }
 
+void CheckFolderToAddTo(const std::string& path, const std::string& option) {
+  CheckOutputDirectory(path, option);
+  std::error_code error;
+  if (fs::is_directory(path, error)) CheckWritableFolder(path, path, option);
+}
+
 namespace {
 
 // `path` made absolute with '.', '..' and links of its existing part

@@ -43,6 +43,11 @@ void CheckOutputFile(const std::string& path, const std::string& option);
 // does not exist yet, and its parent folder is writable.
 void CheckOutputDirectory(const std::string& path, const std::string& option);
 
+// The same for a folder that files are added to, one atomic file each
+// (tune's --out): a folder or not there yet, and writable (its parent, for a
+// new one).
+void CheckFolderToAddTo(const std::string& path, const std::string& option);
+
 // A path a command reads or writes, with the option (or argument) that gave
 // it, for messages.
 struct NamedPath {

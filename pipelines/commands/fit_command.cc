@@ -164,7 +164,7 @@ FitAnalysisOptions FitAnalysisOptionsFromFlags(const FitCommandOptions& flags) {
                     &columns.axial_sign);
   ParseSignedColumn(flags.shear, "--shear", &columns.shear,
                     &columns.shear_sign);
-  if (const std::optional<std::string> problem = options.Check()) {
+  if (const std::optional<std::string> problem = options.Problem()) {
     throw InputError("fit: " + *problem);
   }
   return options;
@@ -241,7 +241,7 @@ int RunFit(const FitCommandOptions& options, std::ostream& out) {
     throw InputError(fmt::format("{}: {} constants not written: {}",
                                  options.input_path, options.variant, *why));
   }
-  if (const std::optional<std::string> problem = chosen->constants.Check()) {
+  if (const std::optional<std::string> problem = chosen->constants.Problem()) {
     throw InputError(
         fmt::format("{}: the fitted {} constants are not "
                     "physical ({}); check the sensor axes' signs",

@@ -16,16 +16,20 @@
 #include <vector>
 
 #include "pipelines/commands/command_table.h"
+#include "pipelines/commands/stderr_progress.h"
 #include "util/input_error.h"
+#include "util/installation_error.h"
+#include "util/progress.h"
 #include "util/version.h"
 
 namespace {
 
 // Exit codes: 0 success, 1 internal failure, 2 bad input (a file or the
 // command line), 3 unreachable target (inverse) or tests unlike their plan
-// entries (validate).
+// entries (validate), 4 an incomplete installation.
 constexpr int kExitInternal = 1;
 constexpr int kExitInputError = 2;
+constexpr int kExitInstallation = 4;
 
 // A malformed command line as one line, like every other bad input, naming
 // the help of the command it was for.
@@ -110,6 +114,9 @@ int main(int argc, char** argv) {
   logger->set_pattern("softbench: %l: %v");
   logger->set_level(global.quiet ? spdlog::level::err : spdlog::level::info);
   spdlog::set_default_logger(logger);
+  // The libraries report long work; the command line draws it on stderr.
+  static softbench::StderrProgress progress;
+  softbench::SetProgressSink(&progress);
 
   try {
     for (const auto& [subcommand, run] : runs) {
@@ -118,6 +125,9 @@ int main(int argc, char** argv) {
   } catch (const softbench::InputError& e) {
     spdlog::error("{}", e.what());
     return kExitInputError;
+  } catch (const softbench::InstallationError& e) {
+    spdlog::error("{}", e.what());
+    return kExitInstallation;
   } catch (const std::exception& e) {
     spdlog::critical("internal error: {}", e.what());
     return kExitInternal;

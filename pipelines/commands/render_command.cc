@@ -163,7 +163,7 @@ RenderOptions SceneFromFlags(const RenderCommandOptions& flags) {
   scene.motion_blur = !flags.no_motion_blur;
   scene.ring = !flags.no_ring;
   scene.sixteen_bit = flags.bit_depth > 8;
-  if (auto problem = scene.Check()) throw InputError("render: " + *problem);
+  if (auto problem = scene.Problem()) throw InputError("render: " + *problem);
   return scene;
 }
 
@@ -181,7 +181,7 @@ BenchConditionsOptions ConditionsFromFlags(const RenderCommandOptions& flags) {
     conditions.bumps.push_back(ParseCameraBump(bump));
   }
   conditions.seed = flags.render.seed;
-  if (auto problem = conditions.Check())
+  if (auto problem = conditions.Problem())
     throw InputError("render: " + *problem);
   return conditions;
 }
@@ -218,7 +218,7 @@ VideoWriterOptions WriterFromFlags(const RenderCommandOptions& flags) {
     throw InputError("--vfr-jitter: must be between 0 and 0.9");
   }
   if (flags.vfr_jitter > 0.0) writer.time_base_hz = kPhoneClockHz;
-  if (auto problem = writer.Check()) throw InputError("render: " + *problem);
+  if (auto problem = writer.Problem()) throw InputError("render: " + *problem);
   return writer;
 }
 
@@ -243,7 +243,7 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   render.writer = WriterFromFlags(options);
   render.vfr_jitter = options.vfr_jitter;
   render.progress = !options.quiet;
-  if (auto problem = render.Check()) throw InputError("render: " + *problem);
+  if (auto problem = render.Problem()) throw InputError("render: " + *problem);
   const fs::path video(options.output_path);
   const std::string plan_out =
       options.plan_out_path.empty()

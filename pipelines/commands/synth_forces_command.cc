@@ -84,7 +84,7 @@ void CheckFreeSpace(const std::string& directory, int64_t bytes) {
 }  // namespace
 
 int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
-  SyntheticForceLogsOptions logs;
+  ForceLogFilesOptions logs;
   std::string variant;
   const ForceModel model =
       ResolveAxialShearModel(options.constants_path, options.variant, &variant);
@@ -127,19 +127,19 @@ int RunSynthForces(SynthForcesCommandOptions options, std::ostream& out) {
   logs.combined = options.combined;
   logs.threads = options.threads;
   logs.progress = !options.quiet;
-  if (const std::optional<std::string> problem = logs.Check()) {
+  if (const std::optional<std::string> problem = logs.Problem()) {
     throw InputError("synth-forces: " + *problem);
   }
   // Said, and checked against the disk, before writing: at the sensor's
   // 5.7 kHz the protocol is over a gigabyte.
-  const SyntheticForceLogsSize size = EstimateSyntheticForceLogs(logs);
+  const ForceLogFilesSize size = EstimateForceLogFiles(logs);
   CheckFreeSpace(options.output_directory, size.bytes);
   if (!options.quiet) {
     spdlog::info("writing {} tests, {} rows, about {}, to {}", size.tests,
                  size.rows, ByteCount(size.bytes), options.output_directory);
   }
-  const SyntheticForceLogs written =
-      WriteSyntheticForceLogs(options.output_directory, logs);
+  const ForceLogFiles written =
+      WriteForceLogFiles(options.output_directory, logs);
   out << fmt::format("{} tests, {} rows: {}\n", written.tests, written.rows,
                      written.manifest_path);
   return 0;

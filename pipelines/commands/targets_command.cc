@@ -120,15 +120,15 @@ int RunTargets(const TargetsCommandOptions& o, std::ostream& out) {
     tag.size_mm = o.tag_mm;
     dots.groups = DotGroupsFromFlags(o);
   }
-  if (auto problem = tag.Check())
+  if (auto problem = tag.Problem())
     throw InputError(tag_source + ": " + *problem);
-  if (auto problem = dots.Check()) {
+  if (auto problem = dots.Problem()) {
     throw InputError(dot_source + ": " + *problem);
   }
   CheckerboardSheetOptions board;
   board.sheet = sheet;
   board.board = ParseBoardFlag(o.board, o.square_mm);
-  if (auto problem = board.Check()) {
+  if (auto problem = board.Problem()) {
     throw InputError("--board: " + *problem);
   }
   CheckOutputDirectory(o.output_dir, "--out");

@@ -91,6 +91,7 @@ std::array<int, 6> Bounds(const HsvRange& r) {
 }  // namespace
 
 int RunTune(const TuneCommandOptions& options, std::ostream& out) {
+  CheckFolderToAddTo(options.output_dir, "--out");
   std::vector<const DotColor*> colors;
   std::stringstream list(options.color);
   for (std::string name; std::getline(list, name, ',');) {
@@ -106,7 +107,7 @@ int RunTune(const TuneCommandOptions& options, std::ostream& out) {
   }
   ColorTuningOptions tuning_options;
   tuning_options.dot_radius_px = options.dot_radius_px;
-  if (auto problem = tuning_options.Check()) {
+  if (auto problem = tuning_options.Problem()) {
     throw InputError("--dot-radius-px: " + *problem);
   }
   const Picture picture = LoadPicture(options);

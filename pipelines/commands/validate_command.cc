@@ -77,7 +77,7 @@ std::string SummaryText(const VideoValidation& v) {
   }
   if (!v.plan.skipped_tests.empty()) {
     std::vector<std::string> ids;
-    for (const PlanTest& t : v.plan.skipped_tests) ids.push_back(t.id);
+    for (const TestPoint& t : v.plan.skipped_tests) ids.push_back(t.id);
     text += fmt::format("  skipped on the bench (as the plan says): {}\n",
                         fmt::join(ids, ", "));
   }
@@ -140,7 +140,7 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   validation.windows_only = options.windows_only;
   validation.register_frames = !options.no_registration;
   validation.progress = !options.quiet && options.video_paths.size() == 1;
-  if (const std::optional<std::string> problem = validation.Check()) {
+  if (const std::optional<std::string> problem = validation.Problem()) {
     throw InputError("validate: " + *problem);
   }
   std::optional<PressureLogTimes> log;

@@ -44,7 +44,7 @@ ConstantsFile ParseConstantsYaml(std::string_view yaml,
           "'" + *file.variant + "' is not one of " + ModelVariantNames());
     }
   }
-  if (const std::optional<std::string> problem = c.Check()) {
+  if (const std::optional<std::string> problem = c.Problem()) {
     throw InputError(source + ": " + *problem);
   }
   const auto limit = [&](std::string_view key, double* value) {

@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "model/names.h"
+#include "util/join_names.h"
 
 namespace softbench {
 

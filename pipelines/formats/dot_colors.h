@@ -9,9 +9,9 @@
 
 namespace softbench {
 
-// A colour of printed dot a plan may name (README, "Test plans"). This is the
-// one list: plan parsing, `tune`, the renderer, help texts and every message
-// about colours use it.
+// A colour of printed dot a plan may name (docs/file-formats.md, "Test plan").
+// This is the one list: plan parsing, `tune`, the renderer, help texts and
+// every message about colours use it.
 struct DotColor {
   std::string_view name;
   // Built-in HSV bounds [h_low, h_high, s_low, s_high, v_low, v_high] in

@@ -126,7 +126,7 @@ Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source) {
                       "' is named twice; rename one");
     }
   }
-  if (const std::optional<MechanismProblem> problem = mechanism.Check()) {
+  if (const std::optional<MechanismProblem> problem = mechanism.Problem()) {
     // Point at the entry at fault where there is one.
     const YAML::Node& at = problem->actuator >= 0 ? actuators[problem->actuator]
                            : problem->head >= 0   ? root["heads"][problem->head]

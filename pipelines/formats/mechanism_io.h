@@ -12,7 +12,7 @@ namespace softbench {
 // Parses a mechanism YAML document (format: docs/mechanism-format.md and
 // samples/mechanisms/). `source` names the document in error messages. Throws
 // InputError with the line and the field on any problem, including a network
-// that fails Mechanism::Check().
+// that fails Mechanism::Problem().
 Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source);
 
 // "delta" and "floating" name the bundled mechanism files (compiled into the

@@ -260,7 +260,7 @@ void ParseTests(const YamlReader& reader, const YAML::Node& node,
     reader.CheckKeys(entry, "tests entry",
                      {"id", "pressures", "actuate_s", "release_s",
                       "residual_offset_mm", "skipped"});
-    PlanTest test;
+    TestPoint test;
     const YAML::Node id = reader.Require(entry, "id");
     test.id = reader.String(id, "id");
     if (!ids.insert(test.id).second) {
@@ -323,7 +323,7 @@ void ParseTests(const YamlReader& reader, const YAML::Node& node,
     reader.Fail(node, "tests", "every test is skipped; keep at least one");
   }
   const bool any = std::any_of(plan->tests.begin(), plan->tests.end(),
-                               [](const PlanTest& t) { return t.actuate_s; });
+                               [](const TestPoint& t) { return t.actuate_s; });
   if (any && !plan->HasTimes()) {
     reader.Fail(node, "tests",
                 "some tests have times and some do not; give times for all "
@@ -369,13 +369,14 @@ std::array<int, 6> MarkerHsvBounds(const MarkerSpec& marker) {
 }
 
 bool TestPlan::HasTimes() const {
-  return std::all_of(tests.begin(), tests.end(),
-                     [](const PlanTest& t) { return t.actuate_s.has_value(); });
+  return std::all_of(tests.begin(), tests.end(), [](const TestPoint& t) {
+    return t.actuate_s.has_value();
+  });
 }
 
 void CheckWindowsFitTheTimes(const TestPlan& plan) {
   for (size_t i = 0; i < plan.tests.size(); ++i) {
-    const PlanTest& test = plan.tests[i];
+    const TestPoint& test = plan.tests[i];
     const double hold_s = *test.release_s - *test.actuate_s;
     if (hold_s < plan.window_s) {
       throw InputError(fmt::format(
@@ -644,7 +645,7 @@ void EmitScene(const TestPlan& plan, YAML::Emitter* emitter) {
 }
 
 // One test entry: id and pressures, then what else it has.
-void EmitTest(const PlanTest& t, bool skipped, YAML::Emitter* emitter) {
+void EmitTest(const TestPoint& t, bool skipped, YAML::Emitter* emitter) {
   YAML::Emitter& out = *emitter;
   out << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "id" << YAML::Value << t.id;
@@ -668,8 +669,8 @@ void EmitTest(const PlanTest& t, bool skipped, YAML::Emitter* emitter) {
 void EmitTests(const TestPlan& plan, YAML::Emitter* emitter) {
   YAML::Emitter& out = *emitter;
   out << YAML::Key << "tests" << YAML::Value << YAML::BeginSeq;
-  for (const PlanTest& t : plan.skipped_tests) EmitTest(t, true, emitter);
-  for (const PlanTest& t : plan.tests) EmitTest(t, false, emitter);
+  for (const TestPoint& t : plan.skipped_tests) EmitTest(t, true, emitter);
+  for (const TestPoint& t : plan.tests) EmitTest(t, false, emitter);
   out << YAML::EndSeq;
 }
 

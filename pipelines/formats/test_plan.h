@@ -65,7 +65,7 @@ struct MarkerSpec {
 // The marker's HSV bounds: the plan's, else its colour's built-in ones.
 std::array<int, 6> MarkerHsvBounds(const MarkerSpec& marker);
 
-struct PlanTest {
+struct TestPoint {
   std::string id;
   Eigen::VectorXd pressures;  // in the plan's pressure unit
   std::optional<double> actuate_s;
@@ -86,7 +86,8 @@ struct SceneSpec {
   double rest_s = 3.0;        // release to the next actuation / the end
 };
 
-// A test plan (README, "Test plans"): one format for `render` and `validate`.
+// A test plan (docs/file-formats.md, "Test plan"): one format for `render` and
+// `validate`.
 struct TestPlan {
   std::string path;            // for messages
   std::string mechanism_name;  // as written: a built-in name or a path
@@ -100,10 +101,10 @@ struct TestPlan {
   double mpa_per_unit = 0.0;
   CalibrationSpec calibration;
   std::vector<MarkerSpec> markers;  // one per head, in head order
-  std::vector<PlanTest> tests;      // the tests the bench performed, in order
+  std::vector<TestPoint> tests;     // the tests the bench performed, in order
   // Entries marked `skipped: true`: listed in the protocol but not done on
   // the bench (no motion expected; reported as skipped, never scored).
-  std::vector<PlanTest> skipped_tests;
+  std::vector<TestPoint> skipped_tests;
   double window_s = 1.0;
   double hysteresis_tolerance_mm = 0.05;
   SceneSpec scene;

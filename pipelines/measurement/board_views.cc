@@ -55,16 +55,16 @@ std::optional<cv::Size> PrintedBoardSize(const BoardViews& views) {
   return std::nullopt;
 }
 
-std::optional<std::string> BoardViewsOptions::Check() const {
+std::optional<std::string> BoardViewsOptions::Problem() const {
   if (!(every_s > 0.0)) return "every_s: must be > 0";
   if (counted_views < 0) return "counted_views: must be >= 0";
-  if (auto problem = board.Check()) return "board: " + *problem;
+  if (auto problem = board.Problem()) return "board: " + *problem;
   return std::nullopt;
 }
 
 BoardViews BoardViewsFromVideo(const std::string& video_path,
                                const BoardViewsOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   BoardViews views;
   const std::string& source = video_path;
   VideoReaderOptions reader_options;
@@ -86,7 +86,7 @@ BoardViews BoardViewsFromVideo(const std::string& video_path,
 
 BoardViews BoardViewsFromImages(const std::string& directory,
                                 const BoardViewsOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   BoardViews views;
   std::error_code error;
   std::vector<fs::path> files;

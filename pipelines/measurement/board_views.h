@@ -15,14 +15,15 @@ namespace softbench {
 struct BoardViewsOptions {
   BoardOptions board;    // the board's inner corners and square size
   double every_s = 0.5;  // video: one view per this many seconds
-  bool progress = true;  // a progress bar on stderr while reading a video
+  bool progress =
+      true;  // report progress (util/progress.h) while reading a video
   // The first this many views also have their board's own corners counted
   // (CountBoardCorners), so a --board that does not match the print is
   // refused with the count the print has.
   int counted_views = 5;
 
   // The first bad field, named, and what it must be.
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 struct BoardViews {

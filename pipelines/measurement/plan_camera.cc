@@ -109,7 +109,7 @@ CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
   k.cx_px = file.camera_matrix(0, 2);
   k.cy_px = file.camera_matrix(1, 2);
   k.distortion = file.distortion;
-  if (auto problem = k.Check()) {
+  if (auto problem = k.Problem()) {
     throw InputError(c.intrinsics_path + ": " + *problem);
   }
   return k;

@@ -21,7 +21,7 @@ double Crossing(const std::vector<double>& t, const std::vector<double>& m,
 
 }  // namespace
 
-std::optional<std::string> TestPointDetectionOptions::Check() const {
+std::optional<std::string> TestPointDetectionOptions::Problem() const {
   if (!(min_motion_mm > 0.0) || !(noise_factor > 0.0)) {
     return "min_motion_mm and noise_factor must be > 0";
   }
@@ -169,7 +169,7 @@ std::string WrongCount(const TestPointDetection& result, int expected) {
 TestPointDetection DetectTestPoints(const VideoMeasurement& measurement,
                                     int expected,
                                     const TestPointDetectionOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   TestPointDetection result;
   std::vector<double> t, motion;
   MotionSignal(measurement, &t, &motion);

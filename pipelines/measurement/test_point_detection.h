@@ -26,7 +26,7 @@ struct TestPointDetectionOptions {
   // first-order settling (0.1 tau after it), and clear of the noise.
   double crossing_fraction = 0.1;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 struct DetectedTestPoint {

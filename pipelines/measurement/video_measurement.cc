@@ -19,12 +19,12 @@
 
 namespace softbench {
 
-std::optional<std::string> VideoMeasurementOptions::Check() const {
+std::optional<std::string> VideoMeasurementOptions::Problem() const {
   if (tag_frames < 1) return "tag_frames must be >= 1";
   if (!(rest_s > 0.0)) return "rest_s must be > 0";
-  if (auto problem = registration.Check()) return problem;
-  if (auto problem = camera_path.Check()) return problem;
-  return tracker.Check();
+  if (auto problem = registration.Problem()) return problem;
+  if (auto problem = camera_path.Problem()) return problem;
+  return tracker.Problem();
 }
 
 namespace {
@@ -248,7 +248,7 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
   double rest_end = rest_s;
   if (plan.HasTimes()) {
     rest_end = *plan.tests.front().actuate_s;
-    for (const PlanTest& t : plan.tests)
+    for (const TestPoint& t : plan.tests)
       rest_end = std::min(rest_end, *t.actuate_s);
   }
   for (size_t h = 0; h < plan.markers.size(); ++h) {
@@ -340,7 +340,7 @@ VideoReaderOptions MeasurementReaderOptions(bool every_frame) {
 
 VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
                               const VideoMeasurementOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   const VideoInfo& info = reader->info();
   const CameraIntrinsics intrinsics =
       PlanIntrinsics(plan, info.width_px, info.height_px);

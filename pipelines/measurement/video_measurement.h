@@ -42,7 +42,7 @@ struct VideoMeasurementOptions {
   std::vector<double> snapshot_times_s;
   bool progress = true;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // One head in one frame.

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "util/input_error.h"
+#include "util/installation_error.h"
 #include "util/text_file.h"
 
 namespace softbench {
@@ -154,10 +155,11 @@ std::string HtmlReport::Render() const {
       const std::filesystem::path path = assets / library;
       std::error_code error;
       if (!std::filesystem::is_regular_file(path, error)) {
-        throw InputError(path.string() +
-                         ": the report's plotting library is missing; run "
-                         "scripts/bootstrap.sh (it installs report/ with npm) "
-                         "or set SOFTBENCH_REPORT_ASSETS");
+        throw InstallationError(
+            path.string() +
+            ": the report's plotting library is missing; run "
+            "scripts/bootstrap.sh (it installs report/ with npm) "
+            "or set SOFTBENCH_REPORT_ASSETS");
       }
       scripts += "<script>" +
                  EscapeSlashAfter(ReadTextFile(path.string(), "report asset",

@@ -128,7 +128,7 @@ std::string ResultsCsv(const VideoValidation& v) {
     }
   }
   // Tests the plan says the bench skipped: their pressures, nothing measured.
-  for (const PlanTest& t : plan.skipped_tests) {
+  for (const TestPoint& t : plan.skipped_tests) {
     for (const Head& head : plan.mechanism.heads) {
       csv += CsvField(t.id) + "," + CsvField(head.name);
       for (double p : t.pressures) csv += fmt::format(",{:g}", p);
@@ -198,7 +198,7 @@ json SummaryJson(const VideoValidation& v) {
                         {"flagged", r.hysteresis_flagged},
                         {"shared_cause", r.hysteresis_cause}};
   root["warnings"] = r.warnings;
-  for (const PlanTest& t : plan.skipped_tests) {
+  for (const TestPoint& t : plan.skipped_tests) {
     root["skipped_tests"].push_back(t.id);
   }
   for (const TestScore& t : r.tests) {

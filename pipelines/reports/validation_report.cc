@@ -428,7 +428,7 @@ void AddTestTable(const TestPlan& plan, const ValidationResult& r,
                       t.status + (t.reason.empty() ? "" : ": " + t.reason)});
     }
   }
-  for (const PlanTest& t : plan.skipped_tests) {
+  for (const TestPoint& t : plan.skipped_tests) {
     rows.push_back({t.id, Pressures(t.pressures), "", "", "", "", "", "", "",
                     "", "skipped (as the plan says)"});
   }

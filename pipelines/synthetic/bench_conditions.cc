@@ -9,7 +9,7 @@
 
 namespace softbench {
 
-std::optional<std::string> BenchConditionsOptions::Check() const {
+std::optional<std::string> BenchConditionsOptions::Problem() const {
   if (!drift_px.allFinite() || drift_px.norm() > 50.0) {
     return "camera drift must be finite and at most 50 px";
   }

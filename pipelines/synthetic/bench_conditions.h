@@ -45,7 +45,7 @@ struct BenchConditionsOptions {
   double tag_gone_after_s = INFINITY;
   uint64_t seed = 1;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // The conditions of one frame.

@@ -82,7 +82,7 @@ void WriteCombined(const fs::path& path,
   writer.Commit();
 }
 
-std::string ManifestComment(const SyntheticForceLogsOptions& options,
+std::string ManifestComment(const ForceLogFilesOptions& options,
                             size_t num_tests) {
   const ActuatorConstants& c = options.synthetic.model.constants;
   return fmt::format(
@@ -96,8 +96,8 @@ std::string ManifestComment(const SyntheticForceLogsOptions& options,
 
 }  // namespace
 
-std::optional<std::string> SyntheticForceLogsOptions::Check() const {
-  if (auto problem = synthetic.Check()) return "synthetic: " + *problem;
+std::optional<std::string> ForceLogFilesOptions::Problem() const {
+  if (auto problem = synthetic.Problem()) return "synthetic: " + *problem;
   if (!MpaPerPressureUnit(pressure_unit)) {
     return "pressure_unit: '" + pressure_unit + "' is not " +
            PressureUnitNames();
@@ -106,11 +106,10 @@ std::optional<std::string> SyntheticForceLogsOptions::Check() const {
   return std::nullopt;
 }
 
-SyntheticForceLogsSize EstimateSyntheticForceLogs(
-    const SyntheticForceLogsOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+ForceLogFilesSize EstimateForceLogFiles(const ForceLogFilesOptions& options) {
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   const std::vector<SyntheticTest> tests = SyntheticTests(options.synthetic);
-  SyntheticForceLogsSize size;
+  ForceLogFilesSize size;
   size.tests = static_cast<int>(tests.size());
   for (const SyntheticTest& test : tests) size.rows += test.rows;
   // Bytes per row from the first test's rows formatted as written, at a rate
@@ -137,10 +136,9 @@ SyntheticForceLogsSize EstimateSyntheticForceLogs(
   return size;
 }
 
-SyntheticForceLogs WriteSyntheticForceLogs(
-    const std::string& directory_name,
-    const SyntheticForceLogsOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+ForceLogFiles WriteForceLogFiles(const std::string& directory_name,
+                                 const ForceLogFilesOptions& options) {
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   // Written beside and swapped in whole: a failed or killed run leaves the
   // previous logs and manifest as they were, never new logs with an old
   // manifest.
@@ -149,7 +147,7 @@ SyntheticForceLogs WriteSyntheticForceLogs(
   const std::vector<SyntheticTest> tests = SyntheticTests(options.synthetic);
   ForceLogManifest manifest = Manifest(tests, options.pressure_unit);
   const std::string header = fmt::format(kHeader, manifest.columns.pressure);
-  SyntheticForceLogs written;
+  ForceLogFiles written;
   written.tests = static_cast<int>(tests.size());
   for (const SyntheticTest& test : tests) written.rows += test.rows;
 

@@ -10,7 +10,7 @@ namespace softbench {
 void AssignTimes(TestPlan* plan) {
   if (plan->HasTimes()) return;
   double t = plan->scene.lead_in_s;
-  for (PlanTest& test : plan->tests) {
+  for (TestPoint& test : plan->tests) {
     test.actuate_s = t;
     test.release_s = t + plan->scene.hold_s;
     t = *test.release_s + plan->scene.rest_s;
@@ -24,7 +24,7 @@ HeadTimeline::HeadTimeline(const TestPlan& plan)
   Eigen::VectorXd slip = Eigen::VectorXd::Zero(num_unknowns_);
   events_.push_back({0.0, slip, -1});
   for (size_t i = 0; i < plan.tests.size(); ++i) {
-    const PlanTest& test = plan.tests[i];
+    const TestPoint& test = plan.tests[i];
     Eigen::VectorXd x = Eigen::VectorXd::Zero(num_unknowns_);
     const EquilibriumSummary summary =
         solver.Solve(test.pressures * plan.mpa_per_unit, &x);

@@ -137,10 +137,10 @@ std::string RenderFrames(const TestPlan& plan, const RenderOptions& scene,
 
 }  // namespace
 
-std::optional<std::string> RenderVideoOptions::Check() const {
-  if (auto problem = scene.Check()) return "scene: " + *problem;
-  if (auto problem = conditions.Check()) return "conditions: " + *problem;
-  if (auto problem = writer.Check()) return "writer: " + *problem;
+std::optional<std::string> RenderVideoOptions::Problem() const {
+  if (auto problem = scene.Problem()) return "scene: " + *problem;
+  if (auto problem = conditions.Problem()) return "conditions: " + *problem;
+  if (auto problem = writer.Problem()) return "writer: " + *problem;
   if (!(vfr_jitter >= 0.0 && vfr_jitter <= 0.9)) {
     return "vfr_jitter: must be between 0 and 0.9";
   }
@@ -158,7 +158,7 @@ std::optional<std::string> RenderVideoOptions::Check() const {
 
 RenderedVideo RenderVideo(TestPlan plan, const std::string& video_path,
                           const RenderVideoOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   RenderOptions scene = options.scene;
   scene.exposure_s = std::min(scene.exposure_s, 1.0 / options.writer.fps);
   AssignTimes(&plan);

@@ -31,10 +31,10 @@ struct RenderVideoOptions {
   // Variable frame rate: each frame's time moves by up to this fraction of
   // the frame interval (0-0.9), on kPhoneClockHz; 0: constant.
   double vfr_jitter = 0.0;
-  bool progress = true;  // a progress bar on stderr
+  bool progress = true;  // report progress (util/progress.h)
 
   // The first bad field, named, and what it must be.
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 struct RenderedVideo {

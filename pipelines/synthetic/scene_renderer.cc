@@ -85,8 +85,8 @@ cv::Vec3f MarkerColorBgr(const std::string& name) {
                        static_cast<float>(color->ink_bgr[2])});
 }
 
-std::optional<std::string> RenderOptions::Check() const {
-  if (auto problem = intrinsics.Check()) return problem;
+std::optional<std::string> RenderOptions::Problem() const {
+  if (auto problem = intrinsics.Problem()) return problem;
   if (!(distance_mm > 50.0 && distance_mm <= 10000.0)) {
     return "camera distance must be > 50 mm and at most 10 m";
   }

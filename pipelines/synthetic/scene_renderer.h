@@ -42,7 +42,7 @@ struct RenderOptions {
   // 12-bit video: the sensor's levels are kept between 8-bit steps.
   bool sixteen_bit = false;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // Pixel to normalised image coordinates, with distortion (scene_renderer.cc).

@@ -240,7 +240,7 @@ const Paper* FindPaper(std::string_view name) {
   return nullptr;
 }
 
-std::optional<std::string> SheetOptions::Check() const {
+std::optional<std::string> SheetOptions::Problem() const {
   if (!(paper.width_mm > 0.0 && paper.height_mm > 0.0)) {
     return "the paper's size must be > 0";
   }
@@ -251,8 +251,8 @@ std::optional<std::string> SheetOptions::Check() const {
   return std::nullopt;
 }
 
-std::optional<std::string> TagSheetOptions::Check() const {
-  if (auto problem = sheet.Check()) return problem;
+std::optional<std::string> TagSheetOptions::Problem() const {
+  if (auto problem = sheet.Problem()) return problem;
   if (id < 0) return "the tag id must be >= 0";
   if (!(size_mm >= 10.0)) {
     return fmt::format(
@@ -277,9 +277,9 @@ std::optional<std::string> TagSheetOptions::Check() const {
   return std::nullopt;
 }
 
-std::optional<std::string> CheckerboardSheetOptions::Check() const {
-  if (auto problem = sheet.Check()) return problem;
-  if (auto problem = board.Check()) return problem;
+std::optional<std::string> CheckerboardSheetOptions::Problem() const {
+  if (auto problem = sheet.Problem()) return problem;
+  if (auto problem = board.Problem()) return problem;
   const BoardLayout l = LayOutBoard(*this);
   if (!l.fits) {
     return fmt::format(
@@ -292,8 +292,8 @@ std::optional<std::string> CheckerboardSheetOptions::Check() const {
   return std::nullopt;
 }
 
-std::optional<std::string> DotSheetOptions::Check() const {
-  if (auto problem = sheet.Check()) return problem;
+std::optional<std::string> DotSheetOptions::Problem() const {
+  if (auto problem = sheet.Problem()) return problem;
   if (groups.empty()) return "no dots to print";
   if (sets < 1) return "sets must be >= 1";
   double height = kHeaderMm + 8.0;  // and the check bar
@@ -315,7 +315,7 @@ std::optional<std::string> DotSheetOptions::Check() const {
 }
 
 std::string DrawTagSheet(const TagSheetOptions& o, SheetFormat format) {
-  SOFTBENCH_CHECK(!o.Check()) << *o.Check();
+  SOFTBENCH_CHECK(!o.Problem()) << *o.Problem();
   const TagBitmap bitmap = Tag36h11Bitmap(o.id);
   const TagLayout l = LayOutTag(o, bitmap);
   const std::string title = fmt::format("AprilTag tag36h11, id {}", o.id);
@@ -368,7 +368,7 @@ std::string DrawTagSheet(const TagSheetOptions& o, SheetFormat format) {
 
 std::string DrawCheckerboardSheet(const CheckerboardSheetOptions& o,
                                   SheetFormat format) {
-  SOFTBENCH_CHECK(!o.Check()) << *o.Check();
+  SOFTBENCH_CHECK(!o.Problem()) << *o.Problem();
   const BoardLayout l = LayOutBoard(o);
   const BoardOptions& b = o.board;
   const std::string title =
@@ -405,7 +405,7 @@ std::string DrawCheckerboardSheet(const CheckerboardSheetOptions& o,
 }
 
 std::string DrawDotSheet(const DotSheetOptions& o, SheetFormat format) {
-  SOFTBENCH_CHECK(!o.Check()) << *o.Check();
+  SOFTBENCH_CHECK(!o.Problem()) << *o.Problem();
   const SheetOptions& s = o.sheet;
   return RenderSheet(
       s.paper.width_mm, s.paper.height_mm, format, "Dot stickers",

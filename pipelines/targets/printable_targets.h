@@ -29,7 +29,7 @@ struct SheetOptions {
   // Kept blank on every side; most printers cannot print the outer 5 mm.
   double margin_mm = 12.0;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // The AprilTag that gives a validation its scale and axes (the plan's
@@ -43,7 +43,7 @@ struct TagSheetOptions {
   double check_bar_mm = 0.0;
 
   // The first bad field and what it must be (including "does not fit").
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // The checkerboard `calibrate-camera` looks for.
@@ -51,7 +51,7 @@ struct CheckerboardSheetOptions {
   SheetOptions sheet;
   BoardOptions board;  // inner corners and square side
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // One head's dot stickers (a plan marker).
@@ -68,11 +68,11 @@ struct DotSheetOptions {
   // Stickers printed per needed dot: spares for the ones that tear.
   int sets = 4;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // Each sheet's file contents (PDF or SVG, drawn with cairo at exact size);
-// the options must pass Check().
+// the options must pass Problem().
 std::string DrawTagSheet(const TagSheetOptions& options, SheetFormat format);
 std::string DrawCheckerboardSheet(const CheckerboardSheetOptions& options,
                                   SheetFormat format);

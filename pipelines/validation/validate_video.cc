@@ -98,17 +98,17 @@ std::vector<InputFile> InputFiles(const TestPlan& plan,
 
 }  // namespace
 
-std::optional<std::string> VideoValidationOptions::Check() const {
+std::optional<std::string> VideoValidationOptions::Problem() const {
   if (!(rest_s > 0.0)) return "rest_s: must be > 0 s";
-  if (auto problem = scoring.Check()) return "scoring: " + *problem;
-  if (auto problem = detection.Check()) return "detection: " + *problem;
+  if (auto problem = scoring.Problem()) return "scoring: " + *problem;
+  if (auto problem = detection.Problem()) return "detection: " + *problem;
   return std::nullopt;
 }
 
 VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
                               const std::optional<PressureLogTimes>& log,
                               const VideoValidationOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   const bool times_known = plan.HasTimes() && !log;
   if (options.windows_only && !times_known) {
     throw InputError(fmt::format(

@@ -25,12 +25,12 @@ struct VideoValidationOptions {
   // Register every frame to the bench; false takes the camera to be still
   // (the thesis's method).
   bool register_frames = true;
-  bool progress = true;  // a progress bar on stderr while measuring
+  bool progress = true;  // report progress (util/progress.h) while measuring
   ValidationOptions scoring;
   TestPointDetectionOptions detection;
 
   // The first bad field, named, and what it must be.
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // Where the test points' times come from when the plan's are not used.

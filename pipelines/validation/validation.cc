@@ -130,7 +130,7 @@ void WarnCameraMotion(const std::vector<TestScore>& tests,
 
 }  // namespace
 
-std::optional<std::string> ValidationOptions::Check() const {
+std::optional<std::string> ValidationOptions::Problem() const {
   if (!(recommended_hold_s >= 0.0)) return "recommended_hold_s must be >= 0";
   if (!(min_window_coverage > 0.0 && min_window_coverage <= 1.0)) {
     return "min_window_coverage must be in (0, 1]";
@@ -153,7 +153,7 @@ std::vector<std::array<WindowSummary, 3>> PlanWindows(const TestPlan& plan,
   const double w = plan.window_s;
   std::vector<std::array<WindowSummary, 3>> windows(plan.tests.size());
   for (size_t i = 0; i < plan.tests.size(); ++i) {
-    const PlanTest& test = plan.tests[i];
+    const TestPoint& test = plan.tests[i];
     // The rest ends at the next actuation, or where the video ends first
     // (a recording cut short), when a whole window still fits after the
     // release.
@@ -446,7 +446,7 @@ std::vector<RepeatAgreement> Repeats(const std::vector<TestScore>& tests,
 void WarnAboutTiming(const TestPlan& plan, const ValidationOptions& options,
                      ValidationResult* result) {
   double shortest_hold_s = INFINITY;
-  for (const PlanTest& test : plan.tests) {
+  for (const TestPoint& test : plan.tests) {
     shortest_hold_s =
         std::min(shortest_hold_s, *test.release_s - *test.actuate_s);
   }
@@ -500,7 +500,7 @@ void WarnAboutDamage(const VideoMeasurement& measurement,
 ValidationResult ScoreTests(const TestPlan& plan,
                             const VideoMeasurement& measurement,
                             const ValidationOptions& options) {
-  SOFTBENCH_CHECK(!options.Check()) << *options.Check();
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   SOFTBENCH_CHECK(plan.HasTimes()) << "ScoreTests needs the plan's times";
   const int num_heads = plan.mechanism.NumHeads();
   ValidationResult result;

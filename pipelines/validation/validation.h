@@ -42,7 +42,7 @@ struct ValidationOptions {
   double better_match_ratio = 0.25;
   double better_match_margin_mm = 0.3;
 
-  std::optional<std::string> Check() const;
+  std::optional<std::string> Problem() const;
 };
 
 // A window's robust summary, per head.

@@ -108,17 +108,17 @@ TEST(ForceModel, VariantNamesRoundTrip) {
   EXPECT_FALSE(ForceModelFromVariantName("small_angle", {}).has_value());
 }
 
-TEST(ActuatorConstants, CheckRejectsNonPhysicalValues) {
-  EXPECT_FALSE(ActuatorConstants{}.Check().has_value());
+TEST(ActuatorConstants, ProblemNamesNonPhysicalValues) {
+  EXPECT_FALSE(ActuatorConstants{}.Problem().has_value());
   ActuatorConstants c;
   c.linear_stiffness_n_per_mm = 0.0;
-  EXPECT_TRUE(c.Check().has_value());
+  EXPECT_TRUE(c.Problem().has_value());
   c = {};
   c.axial_area_mm2 = std::nan("");
-  EXPECT_TRUE(c.Check().has_value());
+  EXPECT_TRUE(c.Problem().has_value());
   c = {};
   c.natural_length_mm = -1.0;
-  EXPECT_TRUE(c.Check().has_value());
+  EXPECT_TRUE(c.Problem().has_value());
 }
 
 }  // namespace

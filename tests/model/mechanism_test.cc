@@ -9,9 +9,9 @@ namespace softbench {
 namespace {
 
 TEST(Mechanism, ThesisMechanismsAreWellFormed) {
-  EXPECT_FALSE(testing::DeltaMechanism().Check().has_value());
-  EXPECT_FALSE(testing::FloatingMechanism().Check().has_value());
-  EXPECT_FALSE(testing::ThreeHeadChain().Check().has_value());
+  EXPECT_FALSE(testing::DeltaMechanism().Problem().has_value());
+  EXPECT_FALSE(testing::FloatingMechanism().Problem().has_value());
+  EXPECT_FALSE(testing::ThreeHeadChain().Problem().has_value());
 }
 
 TEST(Mechanism, RestLengthsAreTheSpecsDistances) {
@@ -42,10 +42,10 @@ TEST(Mechanism, RestAxisRotationFollowsTheGeometry) {
   }
 }
 
-TEST(Mechanism, CheckRejectsARotationThatContradictsTheGeometry) {
+TEST(Mechanism, ProblemNamesARotationThatContradictsTheGeometry) {
   Mechanism m = testing::DeltaMechanism();
   m.actuators[1].rotation_rad = DegToRad(-120.0);
-  const std::optional<MechanismProblem> problem = m.Check();
+  const std::optional<MechanismProblem> problem = m.Problem();
   ASSERT_TRUE(problem.has_value());
   EXPECT_EQ(problem->actuator, 1);
   EXPECT_NE(problem->message.find("actuator '2'"), std::string::npos)
@@ -55,30 +55,30 @@ TEST(Mechanism, CheckRejectsARotationThatContradictsTheGeometry) {
       << problem->message;
 }
 
-TEST(Mechanism, CheckRejectsAHeadNotTiedToTheGround) {
+TEST(Mechanism, ProblemNamesAHeadNotTiedToTheGround) {
   Mechanism m = testing::FloatingMechanism();
   m.actuators.erase(m.actuators.begin() + 2, m.actuators.begin() + 4);
   m.actuators.pop_back();  // the right head is now free
-  const std::optional<MechanismProblem> problem = m.Check();
+  const std::optional<MechanismProblem> problem = m.Problem();
   ASSERT_TRUE(problem.has_value());
   EXPECT_EQ(problem->head, 1);
   EXPECT_NE(problem->message.find("'right'"), std::string::npos)
       << problem->message;
 }
 
-TEST(Mechanism, CheckRejectsAnActuatorFromAHeadToItself) {
+TEST(Mechanism, ProblemNamesAnActuatorFromAHeadToItself) {
   Mechanism m = testing::FloatingMechanism();
   m.actuators[4].anchor = {AnchorRef::Kind::kHead, 1};
-  EXPECT_TRUE(m.Check().has_value());
+  EXPECT_TRUE(m.Problem().has_value());
 }
 
-TEST(Mechanism, CheckRejectsBadIndices) {
+TEST(Mechanism, ProblemNamesBadIndices) {
   Mechanism m = testing::DeltaMechanism();
   m.actuators[0].anchor.index = 7;
-  EXPECT_TRUE(m.Check().has_value());
+  EXPECT_TRUE(m.Problem().has_value());
   m = testing::DeltaMechanism();
   m.actuators[0].head = 1;
-  EXPECT_TRUE(m.Check().has_value());
+  EXPECT_TRUE(m.Problem().has_value());
 }
 
 }  // namespace

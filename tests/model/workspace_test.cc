@@ -122,13 +122,13 @@ TEST(Workspace, MarksTheRowsBeyondTheCharacterisedRange) {
   EXPECT_EQ(ComputeWorkspace(problem, options).num_outside_range, 0);
 }
 
-TEST(WorkspaceOptions, CheckRejectsBadLevels) {
+TEST(WorkspaceOptions, ProblemNamesBadLevels) {
   WorkspaceOptions options;
-  EXPECT_TRUE(options.Check().has_value());
+  EXPECT_TRUE(options.Problem().has_value());
   options.pressure_levels_mpa = {0.0, -0.01};
-  EXPECT_TRUE(options.Check().has_value());
+  EXPECT_TRUE(options.Problem().has_value());
   options.pressure_levels_mpa = {0.0, 0.01};
-  EXPECT_FALSE(options.Check().has_value());
+  EXPECT_FALSE(options.Problem().has_value());
 }
 
 }  // namespace

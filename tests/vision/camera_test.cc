@@ -24,7 +24,7 @@ TEST(CameraIntrinsics, ThesisCameraGivesAbout0p18MmPerPixel) {
   EXPECT_NEAR(k.fx_px, 2647.0, 1.0);
   EXPECT_NEAR(475.0 / k.fx_px, 0.179, 0.001);  // the issue's ~0.17 mm/px
   EXPECT_DOUBLE_EQ(k.cx_px, 959.5);
-  EXPECT_FALSE(k.Check().has_value());
+  EXPECT_FALSE(k.Problem().has_value());
 }
 
 TEST(Camera, ProjectionMatchesOpenCvProjectPoints) {

@@ -42,10 +42,10 @@ TEST(DotSearch, ReductionKeepsDotsAFewPixelsWide) {
   EXPECT_EQ(DotSearchReduction(5.0, options), 1);   // full resolution
   EXPECT_EQ(DotSearchReduction(11.1, options), 3);  // thesis dots at 1080p
   EXPECT_EQ(DotSearchReduction(22.3, options), 4);  // at 4K: the cap
-  EXPECT_FALSE(options.Check());
+  EXPECT_FALSE(options.Problem());
   DotSearchOptions bad;
   bad.min_coarse_radius_px = 1.0;
-  EXPECT_TRUE(bad.Check());
+  EXPECT_TRUE(bad.Problem());
 }
 
 TEST(DotSearch, FindsWhatTheFullResolutionPassFinds) {

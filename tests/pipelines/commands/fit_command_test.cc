@@ -19,6 +19,7 @@
 #include "tests/support/input_error_matchers.h"
 #include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
+#include "util/installation_error.h"
 
 namespace softbench {
 namespace {
@@ -131,11 +132,19 @@ TEST_F(FitCommandTest, AFailedReportLeavesThePreviousOneWhole) {
   ASSERT_EQ(RunFit(options, out), 0);
   const std::string before = Read(Path("report/fit.json"));
   setenv("SOFTBENCH_REPORT_ASSETS", Path("nowhere").c_str(), 1);
-  const std::string message = InputErrorOf([&] {
-    options.axial_weight = 2.0;  // a different fit, were it written
-    RunFit(options, out);
-  });
-  EXPECT_NE(message.find("scripts/bootstrap.sh"), std::string::npos) << message;
+  options.axial_weight = 2.0;  // a different fit, were it written
+  EXPECT_THAT([&] { RunFit(options, out); },
+              ::testing::ThrowsMessage<InstallationError>(
+                  ::testing::HasSubstr("scripts/bootstrap.sh")));
+  // An installation problem is neither bad input (2) nor a bug (1).
+  std::string said;
+  EXPECT_EQ(RunProgram("fit " + options.input_path + " --report " +
+                           Path("report") + " --quiet",
+                       &said),
+            4)
+      << said;
+  EXPECT_NE(said.find("plotting library is missing"), std::string::npos)
+      << said;
   unsetenv("SOFTBENCH_REPORT_ASSETS");
   EXPECT_EQ(Read(Path("report/fit.json")), before);
 }
@@ -181,14 +190,13 @@ TEST_F(FitCommandTest, AKilledSynthForcesLeavesThePreviousLogsAsTheyWere) {
 // the estimate samples, so it extrapolates).
 TEST_F(FitCommandTest, SynthForcesStatesTheSizeItWrites) {
   for (const bool combined : {false, true}) {
-    SyntheticForceLogsOptions options;
+    ForceLogFilesOptions options;
     options.synthetic.sample_rate_hz = combined ? 150.0 : 40.0;
     options.combined = combined;
     options.progress = false;
-    const SyntheticForceLogsSize size = EstimateSyntheticForceLogs(options);
+    const ForceLogFilesSize size = EstimateForceLogFiles(options);
     const std::string directory = Path(combined ? "combined" : "separate");
-    const SyntheticForceLogs written =
-        WriteSyntheticForceLogs(directory, options);
+    const ForceLogFiles written = WriteForceLogFiles(directory, options);
     EXPECT_EQ(size.tests, written.tests);
     EXPECT_EQ(size.rows, written.rows);
     int64_t bytes = 0;

@@ -383,5 +383,25 @@ TEST_F(TrackCommandTest, TuneRejectsAnUnknownColour) {
               ThrowsInputErrorWith("", "--color", "'purple' is not red"));
 }
 
+// --out is checked before the picture is read, and made only once there is
+// something to write into it (issue 31: it was created before the checks).
+TEST_F(TrackCommandTest, TuneChecksItsOutBeforeAnyWork) {
+  TuneCommandOptions options;
+  options.source_path = Path("no_such_photo.png");
+  options.color = "red";
+  std::ostringstream out;
+  options.output_dir = WritePlan("a_file", "x");
+  EXPECT_THAT(
+      [&] { RunTune(options, out); },
+      ThrowsInputErrorWith("a_file", "--out", "exists and is not a folder"));
+  options.output_dir = "/proc/softbench_tune";
+  EXPECT_THAT([&] { RunTune(options, out); },
+              ThrowsInputErrorWith("/proc", "--out", "is not writable"));
+  options.output_dir = Path("tune_new");
+  EXPECT_THAT([&] { RunTune(options, out); },
+              ThrowsInputErrorWith("no_such_photo.png", "", ""));
+  EXPECT_FALSE(fs::exists(options.output_dir));
+}
+
 }  // namespace
 }  // namespace softbench

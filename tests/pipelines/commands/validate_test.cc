@@ -83,7 +83,7 @@ ValidationResult CheckSample(const std::string& name, bool windows_only,
     pressures += fmt::format("{}p{}", k > 1 ? "," : "", k);
   }
   pressures += "\n";
-  for (const PlanTest& test : plan.tests) {
+  for (const TestPoint& test : plan.tests) {
     for (int k = 0; k < test.pressures.size(); ++k) {
       pressures += fmt::format("{}{}", k > 0 ? "," : "", test.pressures[k]);
     }
@@ -662,7 +662,7 @@ std::string PressureLog(const std::string& sample, double offset_s) {
       LoadTestPlan(std::string(SOFTBENCH_SOURCE_DIR) + "/samples/" + sample +
                    "/rendered.plan.yaml");
   std::string log = "time_s,p1,p2,p3\n-2,0,0,0\n";
-  for (const PlanTest& test : rendered.tests) {
+  for (const TestPoint& test : rendered.tests) {
     const double actuate = *test.actuate_s - offset_s;
     const double release = *test.release_s - offset_s;
     for (double t = actuate; t < release; t += 0.2) {

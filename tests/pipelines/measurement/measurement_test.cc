@@ -326,7 +326,7 @@ void CheckSample(const std::string& name) {
   ASSERT_EQ(truth.time_s.size(), m.frames.size());
   EXPECT_EQ(m.missing_dots, 0);
   double worst = 0.0, worst_binary = 0.0;
-  for (const PlanTest& t : plan.tests) {
+  for (const TestPoint& t : plan.tests) {
     for (size_t h = 0; h < plan.markers.size(); ++h) {
       Eigen::Vector2d measured = Eigen::Vector2d::Zero(),
                       binary = Eigen::Vector2d::Zero(),

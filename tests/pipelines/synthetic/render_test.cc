@@ -214,7 +214,7 @@ TEST(RenderCommand, TruthEqualsTheEquilibriumOnceSettled) {
   const EquilibriumProblem problem(plan.mechanism, plan.force_model);
   EquilibriumSolver solver(problem);
   std::vector<Eigen::VectorXd> equilibria;
-  for (const PlanTest& test : plan.tests) {
+  for (const TestPoint& test : plan.tests) {
     Eigen::VectorXd x = Eigen::VectorXd::Zero(2);
     ASSERT_TRUE(solver.Solve(test.pressures * kMpaPerPsi, &x).converged());
     equilibria.push_back(x);

@@ -80,7 +80,7 @@ TEST(PrintableTargets, TagPrintsAtItsSizeAndDecodesToItsId) {
     TagSheetOptions options;
     options.id = id;
     options.size_mm = size_mm;
-    ASSERT_FALSE(options.Check()) << *options.Check();
+    ASSERT_FALSE(options.Problem()) << *options.Problem();
     const cv::Mat page = Rasterise(DrawTagSheet(options, SheetFormat::kPdf));
     const cv::Rect box = LargestDarkRegion(page);
     // Across the top and left border cells, half a cell in (a tag36h11
@@ -126,7 +126,7 @@ TEST(PrintableTargets, CheckerboardSquaresPrintAtTheirSize) {
   for (const double square_mm : {15.0, 22.0}) {
     CheckerboardSheetOptions options;
     options.board = {9, 6, square_mm};
-    ASSERT_FALSE(options.Check()) << *options.Check();
+    ASSERT_FALSE(options.Problem()) << *options.Problem();
     const cv::Mat page =
         Rasterise(DrawCheckerboardSheet(options, SheetFormat::kPdf));
     cv::Mat small;
@@ -154,7 +154,7 @@ TEST(PrintableTargets, DotsPrintAtTheirDiameterInTheirInk) {
   options.groups = {{"head 0 (red)", {40, 40, 200}, 4.0, 3},
                     {"head 1 (green)", {60, 170, 40}, 6.0, 5}};
   options.sets = 2;
-  ASSERT_FALSE(options.Check()) << *options.Check();
+  ASSERT_FALSE(options.Problem()) << *options.Problem();
   const cv::Mat page =
       Rasterise(DrawDotSheet(options, SheetFormat::kPdf), /*colour=*/true);
   for (const DotGroup& g : options.groups) {
@@ -192,18 +192,19 @@ TEST(PrintableTargets, SvgDeclaresThePaperInMillimetres) {
 TEST(PrintableTargets, RefusesWhatDoesNotFitAndSaysWhatWould) {
   TagSheetOptions tag;
   tag.size_mm = 400.0;
-  ASSERT_TRUE(tag.Check());
-  EXPECT_NE(tag.Check()->find("does not fit on a4"), std::string::npos)
-      << *tag.Check();
-  EXPECT_NE(tag.Check()->find("tags up to 1"), std::string::npos)
-      << *tag.Check();
+  ASSERT_TRUE(tag.Problem());
+  EXPECT_NE(tag.Problem()->find("does not fit on a4"), std::string::npos)
+      << *tag.Problem();
+  EXPECT_NE(tag.Problem()->find("tags up to 1"), std::string::npos)
+      << *tag.Problem();
   CheckerboardSheetOptions board;
   board.board = {9, 6, 40.0};
-  ASSERT_TRUE(board.Check());
-  EXPECT_NE(board.Check()->find("squares up to 22.5 mm fit"), std::string::npos)
-      << *board.Check();
+  ASSERT_TRUE(board.Problem());
+  EXPECT_NE(board.Problem()->find("squares up to 22.5 mm fit"),
+            std::string::npos)
+      << *board.Problem();
   DotSheetOptions dots;
-  EXPECT_EQ(*dots.Check(), "no dots to print");
+  EXPECT_EQ(*dots.Problem(), "no dots to print");
 }
 
 }  // namespace

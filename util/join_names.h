@@ -1,5 +1,5 @@
-#ifndef SOFTBENCH_MODEL_NAMES_H_
-#define SOFTBENCH_MODEL_NAMES_H_
+#ifndef SOFTBENCH_UTIL_JOIN_NAMES_H_
+#define SOFTBENCH_UTIL_JOIN_NAMES_H_
 
 #include <string>
 #include <string_view>
@@ -21,4 +21,4 @@ inline std::string JoinNames(const std::vector<std::string_view>& names) {
 
 }  // namespace softbench
 
-#endif  // SOFTBENCH_MODEL_NAMES_H_
+#endif  // SOFTBENCH_UTIL_JOIN_NAMES_H_
