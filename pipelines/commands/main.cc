@@ -18,7 +18,6 @@
 #include "pipelines/commands/command_table.h"
 #include "pipelines/commands/stderr_progress.h"
 #include "util/input_error.h"
-#include "util/installation_error.h"
 #include "util/progress.h"
 #include "util/version.h"
 

@@ -6,7 +6,6 @@
 #include <filesystem>
 
 #include "util/input_error.h"
-#include "util/installation_error.h"
 #include "util/text_file.h"
 
 namespace softbench {

@@ -19,7 +19,6 @@
 #include "tests/support/input_error_matchers.h"
 #include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
-#include "util/installation_error.h"
 
 namespace softbench {
 namespace {
