@@ -14,13 +14,16 @@ extern "C" {
 
 #include "util/check.h"
 #include "util/input_error.h"
+#include "util/join_names.h"
 #include "vision/ffmpeg_util.h"
+#include "vision/video_codecs.h"
 
 namespace softbench {
 
 std::optional<std::string> VideoWriterOptions::Problem() const {
-  if (codec != "h264" && codec != "hevc") {
-    return "codec must be h264 or hevc";
+  const VideoCodec* table_codec = FindVideoCodec(codec);
+  if (table_codec == nullptr) {
+    return "codec must be " + VideoCodecNames();
   }
   if (!(fps >= 1.0) || fps > 1000.0) return "fps must be in [1, 1000]";
   if (crf < 0 || crf > 51) return "crf must be between 0 and 51";
@@ -46,9 +49,18 @@ std::optional<std::string> VideoWriterOptions::Problem() const {
   if (bit_depth != 8 && bit_depth != 10 && bit_depth != 12) {
     return "bit depth must be 8, 10 or 12";
   }
-  if (bit_depth == 12 && codec != "hevc") return "12 bits need hevc";
+  if (!table_codec->Encodes(bit_depth)) {
+    std::vector<std::string_view> codecs;
+    for (const VideoCodec& c : VideoCodecs()) {
+      if (c.Encodes(bit_depth)) codecs.push_back(c.name);
+    }
+    return std::to_string(bit_depth) + " bits need " + JoinNames(codecs);
+  }
   if (chroma != "4:2:0" && chroma != "4:2:2" && chroma != "4:4:4") {
     return "chroma must be 4:2:0, 4:2:2 or 4:4:4";
+  }
+  if (!table_codec->Takes(chroma)) {
+    return codec + " does not take chroma " + chroma;
   }
   if (time_base_hz < 0) return "time base must be >= 0";
   return std::nullopt;
@@ -159,8 +171,9 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
   if (err < 0) s.Fail("cannot create the container", err);
   // No creation time or library version strings: reproducible files.
   s.format->flags |= AVFMT_FLAG_BITEXACT;
-  const char* encoder_name = options.codec == "hevc" ? "libx265" : "libx264";
-  const AVCodec* encoder = avcodec_find_encoder_by_name(encoder_name);
+  const VideoCodec& table_codec = *FindVideoCodec(options.codec);
+  const std::string encoder_name(table_codec.encoder);
+  const AVCodec* encoder = avcodec_find_encoder_by_name(encoder_name.c_str());
   if (encoder == nullptr) {
     throw InputError(path + ": FFmpeg has no " + encoder_name +
                      " encoder; install Debian's ffmpeg libraries");
@@ -213,16 +226,22 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
     av_opt_set(s.codec->priv_data, "crf", std::to_string(options.crf).c_str(),
                0);
   }
-  if (options.codec == "hevc") {
-    av_opt_set(s.codec->priv_data, "x265-params",
-               ("log-level=none:pools=" + std::to_string(options.threads) +
-                ":frame-threads=1")
-                   .c_str(),
+  if (!table_codec.params_option.empty()) {
+    std::string params(table_codec.params);
+    const size_t at = params.find("{threads}");
+    if (at != std::string::npos) {
+      params.replace(at, 9, std::to_string(options.threads));
+    }
+    av_opt_set(s.codec->priv_data,
+               std::string(table_codec.params_option).c_str(), params.c_str(),
                0);
-    s.codec->codec_tag = MKTAG('h', 'v', 'c', '1');  // playable on Apple
+  }
+  if (table_codec.container_tag.size() == 4) {
+    const std::string_view t = table_codec.container_tag;
+    s.codec->codec_tag = MKTAG(t[0], t[1], t[2], t[3]);
   }
   err = avcodec_open2(s.codec, encoder, nullptr);
-  if (err < 0) s.Fail(std::string("cannot open ") + encoder_name, err);
+  if (err < 0) s.Fail("cannot open " + encoder_name, err);
 
   s.stream = avformat_new_stream(s.format, nullptr);
   avcodec_parameters_from_context(s.stream->codecpar, s.codec);

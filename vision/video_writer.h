@@ -11,7 +11,7 @@
 namespace softbench {
 
 struct VideoWriterOptions {
-  std::string codec = "h264";  // "h264" (libx264) or "hevc" (libx265)
+  std::string codec = "h264";  // a name of VideoCodecs() (video_codecs.h)
   double fps = 30.0;
   // Constant rate factor: lower is better quality and larger files (x264 and
   // x265 scale; 18 is visually lossless for x264).

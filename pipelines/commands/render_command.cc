@@ -12,6 +12,7 @@
 #include "pipelines/synthetic/render_video.h"
 #include "util/atomic_file.h"
 #include "util/input_error.h"
+#include "vision/video_codecs.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -29,7 +30,7 @@ void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
                 "the plan with the times used (default: VIDEO.plan.yaml)");
   c->add_option("--resolution", options->resolution, "720p, 1080p, 4k or WxH")
       ->capture_default_str();
-  c->add_option("--codec", options->codec, "h264 or hevc")
+  c->add_option("--codec", options->codec, VideoCodecNames())
       ->capture_default_str();
   c->add_option("--crf", options->crf,
                 "encoder quality (lower: better, larger)")

@@ -137,18 +137,16 @@ Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source) {
 }
 
 std::vector<std::string> BuiltinMechanismNames() {
-  return {"delta", "floating"};
+  std::vector<std::string> names;
+  for (const BuiltinMechanism& builtin : BuiltinMechanisms()) {
+    names.emplace_back(builtin.name);
+  }
+  return names;
 }
 
 Mechanism LoadMechanism(const std::string& name_or_path) {
-  // The built-in mechanisms, by name: the one list.
-  struct Builtin {
-    std::string_view name, yaml;
-  };
-  const Builtin builtins[] = {{"delta", kDeltaMechanismYaml},
-                              {"floating", kFloatingMechanismYaml}};
   std::string names;
-  for (const Builtin& builtin : builtins) {
+  for (const BuiltinMechanism& builtin : BuiltinMechanisms()) {
     if (builtin.name == name_or_path) {
       return ParseMechanismYaml(
           builtin.yaml, "built-in " + std::string(builtin.name) + ".yaml");

@@ -9,14 +9,15 @@
 
 namespace softbench {
 
-// Parses a mechanism YAML document (format: docs/mechanism-format.md and
-// samples/mechanisms/). `source` names the document in error messages. Throws
-// InputError with the line and the field on any problem, including a network
-// that fails Mechanism::Problem().
+// Parses a mechanism YAML document (format: docs/file-formats.md, "Mechanism",
+// and samples/mechanisms/). `source` names the document in error messages.
+// Throws InputError with the line and the field on any problem, including a
+// network that fails Mechanism::Problem().
 Mechanism ParseMechanismYaml(std::string_view yaml, const std::string& source);
 
-// "delta" and "floating" name the bundled mechanism files (compiled into the
-// program from samples/mechanisms/); anything else is read as a file path.
+// The name of a bundled mechanism ("delta", "floating": every file of
+// samples/mechanisms/, compiled in) gives that file; anything else is read as
+// a file path.
 Mechanism LoadMechanism(const std::string& name_or_path);
 
 // Names accepted by LoadMechanism without a file.

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+
 #include "model/equilibrium.h"
+#include "pipelines/formats/builtin_mechanisms.h"
 #include "tests/model/thesis_mechanisms.h"
 #include "tests/support/input_error_matchers.h"
 #include "util/input_error.h"
@@ -34,7 +38,25 @@ TEST(MechanismIo, BundledFilesMatchTheSpecGeometry) {
   ExpectSameMechanism(LoadMechanism("floating"), testing::FloatingMechanism());
 }
 
+// Every file of samples/mechanisms/ is a built-in mechanism of its name,
+// byte for byte, and there are no others.
 TEST(MechanismIo, BuiltinNamesReadTheSampleFiles) {
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(
+           std::string(SOFTBENCH_SOURCE_DIR) + "/samples/mechanisms")) {
+    if (entry.path().extension() == ".yaml") {
+      files.push_back(entry.path().stem().string());
+      const BuiltinMechanism* builtin = nullptr;
+      for (const BuiltinMechanism& b : BuiltinMechanisms()) {
+        if (b.name == files.back()) builtin = &b;
+      }
+      ASSERT_NE(builtin, nullptr) << entry.path();
+      EXPECT_EQ(builtin->yaml,
+                ReadTextFile(entry.path().string(), "mechanism", 1 << 20));
+    }
+  }
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(BuiltinMechanismNames(), files);
   for (const std::string& name : BuiltinMechanismNames()) {
     ExpectSameMechanism(LoadMechanism(name),
                         LoadMechanism(std::string(SOFTBENCH_SOURCE_DIR) +
