@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "pipelines/reports/web_assets.h"
 #include "util/input_error.h"
 #include "util/text_file.h"
 
@@ -49,34 +50,6 @@ std::string EscapeSlashAfter(std::string text, std::string_view pattern) {
   return text;
 }
 
-constexpr const char* kStyle = R"css(
-body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px;
-       color: #222; line-height: 1.4; }
-h1 { font-size: 1.6em; overflow-wrap: anywhere; } h2 { font-size: 1.25em; margin-top: 2em; }
-table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
-th { background: #f3f3f3; } td:first-child, th:first-child { text-align: left; }
-.chart { margin: 1em 0; }
-.figures { display: flex; flex-wrap: wrap; gap: 0.8em; margin: 0.5em 0; }
-figure { margin: 0; } figcaption { font-size: 0.8em; max-width: 300px; }
-figure svg { width: 300px; height: auto; background: #000; }
-/* A phone: the page fits the screen; a wide table or chart scrolls inside
-   itself instead of widening the page. */
-@media (max-width: 700px) {
-  body { margin: 0.6em; font-size: 15px; }
-  table, .chart { display: block; overflow-x: auto; max-width: 100%; }
-  figure svg { width: 100%; }
-}
-/* Print: full width, no export menus, nothing split across pages, and each
-   link's file name written out. */
-@media print {
-  body { max-width: none; margin: 0; font-size: 10pt; }
-  .vega-embed details, .vega-actions { display: none !important; }
-  h2 { break-after: avoid; }
-  table, .chart, figure { break-inside: avoid; }
-  a[href]::after { content: " (" attr(href) ")"; font-size: 0.9em; }
-}
-)css";
 
 }  // namespace
 
@@ -185,7 +158,7 @@ std::string HtmlReport::Render() const {
       "initial-scale=1\">\n"
       "<title>{0}</title>\n<style>{1}</style>\n{2}</head>\n<body>\n"
       "<h1>{0}</h1>\n{3}{4}</body></html>\n",
-      Escape(title_), kStyle, scripts, body_, embed);
+      Escape(title_), kReportStyle, scripts, body_, embed);
 }
 
 }  // namespace softbench
