@@ -41,7 +41,7 @@ void BM_Map(benchmark::State& state, const char* mechanism, double step_psi,
                                    ForceModel::SmallAngle({}));
   const WorkspaceOptions options =
       PsiLevels(6.0, step_psi, static_cast<int>(state.range(0)));
-  long long points = 0, iterations = 0;
+  int64_t points = 0, iterations = 0;
   WorkspaceMap map;
   for (auto _ : state) {
     if (!reuse) map = WorkspaceMap();

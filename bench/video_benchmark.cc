@@ -32,7 +32,7 @@ void BM_RenderFrame(benchmark::State& state, cv::Size size, bool moving) {
     std::vector<Eigen::VectorXd> samples;
     for (int j = 0; j < (moving ? 4 : 1); ++j) {
       const double phase = 0.01 * (4 * frame + j);
-      samples.push_back(Eigen::Vector2d(std::sin(phase), std::cos(phase)));
+      samples.emplace_back(Eigen::Vector2d(std::sin(phase), std::cos(phase)));
     }
     benchmark::DoNotOptimize(renderer.Render(samples, frame++).data);
   }
@@ -51,7 +51,7 @@ BENCHMARK_CAPTURE(BM_RenderFrame, 4k_still, cv::Size(3840, 2160), false)
 
 // Decodes the whole file: decode only (Skip), or with the luma plane each
 // later stage reads.
-void BM_Decode(benchmark::State& state, std::string path, bool luma) {
+void BM_Decode(benchmark::State& state, const std::string& path, bool luma) {
   int64_t frames = 0;
   for (auto _ : state) {
     VideoReaderOptions options;
@@ -71,7 +71,8 @@ void BM_Decode(benchmark::State& state, std::string path, bool luma) {
 // Measures every head in every frame of a rendered clip (its plan is the
 // plan.yaml beside it): region tracking after the first frame, or the full
 // image every frame. The scale comes from the tag once, outside the timing.
-void BM_Measure(benchmark::State& state, std::string path, bool full_frame) {
+void BM_Measure(benchmark::State& state, const std::string& path,
+                bool full_frame) {
   const std::string plan_path =
       path.substr(0, path.find_last_of('/') + 1) + "plan.yaml";
   const TestPlan plan = LoadTestPlan(plan_path);

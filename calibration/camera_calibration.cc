@@ -112,7 +112,7 @@ CameraCalibrationSummary CalibrateCamera(
   CameraCalibration& c = summary.calibration;
   c.width_px = image_size.width;
   c.height_px = image_size.height;
-  c.camera_matrix = cv::Matx33d(camera_matrix);
+  c.camera_matrix = static_cast<cv::Matx33d>(camera_matrix);
   for (int i = 0; i < 5; ++i) c.distortion[i] = distortion.at<double>(i);
   c.reprojection_error_px = rms;
   c.views = views;
@@ -187,7 +187,7 @@ CameraCalibration LoadCameraCalibration(const std::string& path) {
   }
   matrix.convertTo(matrix, CV_64F);
   distortion.convertTo(distortion, CV_64F);
-  c.camera_matrix = cv::Matx33d(matrix);
+  c.camera_matrix = static_cast<cv::Matx33d>(matrix);
   for (size_t i = 0; i < distortion.total(); ++i) {
     c.distortion[i] = distortion.at<double>(static_cast<int>(i));
   }

@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <memory>
+#include <utility>
 
 namespace softbench {
 namespace {
@@ -38,8 +39,8 @@ class NormalEquationsCost : public ceres::CostFunction {
 class RowCost : public ceres::CostFunction {
  public:
   RowCost(const FreeDesign* design, const ForceRow* row,
-          const Eigen::Vector2d& weights)
-      : design_(design), row_(row), weights_(weights) {
+          Eigen::Vector2d weights)
+      : design_(design), row_(row), weights_(std::move(weights)) {
     set_num_residuals(2);
     mutable_parameter_block_sizes()->push_back(
         static_cast<int>(design->u.cols()));

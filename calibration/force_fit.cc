@@ -393,7 +393,7 @@ std::optional<std::string> WhyNotDetermined(const FreeSystem& system,
   for (int i = 0; i < system.size(); ++i) {
     const int index = system.free[i];
     if (values[i] <= lower[i]) {
-      summary->at_bounds.push_back(kFitConstantNames[index]);
+      summary->at_bounds.emplace_back(kFitConstantNames[index]);
       summary->standard_errors[index] = NAN;
     } else if (summary->standard_errors[index] >
                options.max_relative_standard_error * std::abs(values[i])) {

@@ -136,7 +136,7 @@ class LogRowParser {
     return std::nullopt;
   }
 
-  Row Skip(std::string why) {
+  Row Skip(const std::string& why) {
     // One row may fail several checks; count it once.
     if (skipped_line_ != reader_.line_number()) {
       skipped_line_ = reader_.line_number();

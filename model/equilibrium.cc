@@ -11,9 +11,9 @@
 
 namespace softbench {
 
-EquilibriumProblem::EquilibriumProblem(const Mechanism& mechanism,
+EquilibriumProblem::EquilibriumProblem(Mechanism mechanism,
                                        const ForceModel& model)
-    : mechanism_(mechanism), model_(model) {
+    : mechanism_(std::move(mechanism)), model_(model) {
   SOFTBENCH_CHECK(!mechanism_.Problem() && !model_.constants.Problem())
       << "EquilibriumSolver needs a checked mechanism and constants";
   links_.reserve(mechanism_.actuators.size());
@@ -37,6 +37,58 @@ Eigen::Vector2d EquilibriumProblem::LocalVector(
   return {link.cos_axis * w.x() + link.sin_axis * w.y(),
           -link.sin_axis * w.x() + link.cos_axis * w.y()};
 }
+
+namespace {
+
+// One link's share of d(residual)/dx: the head at rows and columns h, h + 1,
+// and the anchor's head (a >= 0) with the opposite sign. c and s are the
+// actuator's axis rotation R = [[c, -s], [s, c]]; w = (wy, wz) runs from the
+// anchor to the head, |w| = length.
+//   dF_world/dh = R (dF/d(dL) d(dL)/dv^T + dF/dtheta d(theta)/dv^T) R^T
+//               = (R dF/d(dL)) u^T + (R dF/dtheta) (perp(w) / |w|^2)^T,
+// since d(dL)/dv = v/|v| maps to u = w/|w|, d(theta)/dv = (-v_z, v_y)/|v|^2
+// maps to perp(w) = (-w_z, w_y), and R commutes with the quarter turn.
+inline void AddStateJacobian(const ActuatorForce& force, double c, double s,
+                             double wy, double wz, double length,
+                             double length_sq, int h, int a,
+                             Eigen::MatrixXd* jacobian_x) {
+  const Eigen::Vector2d& dl = force.d_force_d_delta_length;
+  const Eigen::Vector2d& dt = force.d_force_d_theta;
+  const double ly = c * dl.x() - s * dl.y(), lz = s * dl.x() + c * dl.y();
+  const double ty = c * dt.x() - s * dt.y(), tz = s * dt.x() + c * dt.y();
+  const double uy = wy / length, uz = wz / length;
+  const double py = -wz / length_sq, pz = wy / length_sq;
+  const double g00 = ly * uy + ty * py, g01 = ly * uz + ty * pz;
+  const double g10 = lz * uy + tz * py, g11 = lz * uz + tz * pz;
+  Eigen::MatrixXd& j = *jacobian_x;
+  j(h, h) += g00, j(h, h + 1) += g01, j(h + 1, h) += g10,
+      j(h + 1, h + 1) += g11;
+  if (a >= 0) {
+    j(h, a) -= g00, j(h, a + 1) -= g01, j(h + 1, a) -= g10,
+        j(h + 1, a + 1) -= g11;
+    j(a, h) -= g00, j(a, h + 1) -= g01, j(a + 1, h) -= g10,
+        j(a + 1, h + 1) -= g11;
+    j(a, a) += g00, j(a, a + 1) += g01, j(a + 1, a) += g10,
+        j(a + 1, a + 1) += g11;
+  }
+}
+
+// One link's share of d(residual)/d(pressure k): R dF/dP on the head, and
+// its opposite on the anchor's head (a >= 0).
+inline void AddPressureJacobian(const ActuatorForce& force, double c, double s,
+                                int k, int h, int a,
+                                Eigen::MatrixXd* jacobian_pressure) {
+  const Eigen::Vector2d& dp = force.d_force_d_pressure;
+  const double py = c * dp.x() - s * dp.y(), pz = s * dp.x() + c * dp.y();
+  (*jacobian_pressure)(h, k) += py;
+  (*jacobian_pressure)(h + 1, k) += pz;
+  if (a >= 0) {
+    (*jacobian_pressure)(a, k) -= py;
+    (*jacobian_pressure)(a + 1, k) -= pz;
+  }
+}
+
+}  // namespace
 
 bool EquilibriumProblem::Evaluate(const Eigen::VectorXd& pressures_mpa,
                                   const Eigen::VectorXd& x,
@@ -105,40 +157,12 @@ bool EquilibriumProblem::Evaluate(const Eigen::VectorXd& pressures_mpa,
       }
 
       if (jacobian_x) {
-        // dF_world/dh = R (dF/d(dL) d(dL)/dv^T + dF/dtheta d(theta)/dv^T) R^T
-        //             = (R dF/d(dL)) u^T + (R dF/dtheta) (perp(w) / |w|^2)^T,
-        // since d(dL)/dv = v/|v| maps to u = w/|w|, d(theta)/dv =
-        // (-v_z, v_y)/|v|^2 maps to perp(w) = (-w_z, w_y), and R commutes with
-        // the quarter turn.
-        const Eigen::Vector2d& dl = force.d_force_d_delta_length;
-        const Eigen::Vector2d& dt = force.d_force_d_theta;
-        const double ly = c * dl.x() - s * dl.y(), lz = s * dl.x() + c * dl.y();
-        const double ty = c * dt.x() - s * dt.y(), tz = s * dt.x() + c * dt.y();
-        const double uy = wy / length, uz = wz / length;
-        const double py = -wz / length_sq, pz = wy / length_sq;
-        const double g00 = ly * uy + ty * py, g01 = ly * uz + ty * pz;
-        const double g10 = lz * uy + tz * py, g11 = lz * uz + tz * pz;
-        Eigen::MatrixXd& j = *jacobian_x;
-        j(h, h) += g00, j(h, h + 1) += g01, j(h + 1, h) += g10,
-            j(h + 1, h + 1) += g11;
-        if (link.anchor_head >= 0) {
-          j(h, a) -= g00, j(h, a + 1) -= g01, j(h + 1, a) -= g10,
-              j(h + 1, a + 1) -= g11;
-          j(a, h) -= g00, j(a, h + 1) -= g01, j(a + 1, h) -= g10,
-              j(a + 1, h + 1) -= g11;
-          j(a, a) += g00, j(a, a + 1) += g01, j(a + 1, a) += g10,
-              j(a + 1, a + 1) += g11;
-        }
+        AddStateJacobian(force, c, s, wy, wz, length, length_sq, h,
+                         link.anchor_head >= 0 ? a : -1, jacobian_x);
       }
       if (jacobian_pressure) {
-        const Eigen::Vector2d& dp = force.d_force_d_pressure;
-        const double py = c * dp.x() - s * dp.y(), pz = s * dp.x() + c * dp.y();
-        (*jacobian_pressure)(h, k) += py;
-        (*jacobian_pressure)(h + 1, k) += pz;
-        if (link.anchor_head >= 0) {
-          (*jacobian_pressure)(a, k) -= py;
-          (*jacobian_pressure)(a + 1, k) -= pz;
-        }
+        AddPressureJacobian(force, c, s, k, h, link.anchor_head >= 0 ? a : -1,
+                            jacobian_pressure);
       }
     }
   }

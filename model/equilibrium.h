@@ -21,7 +21,7 @@ class EquilibriumProblem {
  public:
   // `mechanism` must pass Mechanism::Problem() and `model.constants` must pass
   // ActuatorConstants::Problem(); both are programmer errors otherwise.
-  EquilibriumProblem(const Mechanism& mechanism, const ForceModel& model);
+  EquilibriumProblem(Mechanism mechanism, const ForceModel& model);
 
   const Mechanism& mechanism() const { return mechanism_; }
   const ForceModel& model() const { return model_; }
@@ -101,8 +101,8 @@ struct EquilibriumSummary {
 // thread.
 class EquilibriumSolver {
  public:
-  EquilibriumSolver(const EquilibriumProblem& problem,
-                    const EquilibriumOptions& options = {});
+  explicit EquilibriumSolver(const EquilibriumProblem& problem,
+                             const EquilibriumOptions& options = {});
 
   // Solves for x starting from *x (the rest state zero, or a neighbouring
   // solution). On return *x holds the last iterate; it is an equilibrium only

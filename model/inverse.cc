@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 #include "util/check.h"
 
@@ -16,10 +17,10 @@ namespace {
 // parameters are the normalised pressures u = P / P_max in [0, 1].
 class TargetCost : public ceres::CostFunction {
  public:
-  TargetCost(const EquilibriumProblem& problem, const Eigen::VectorXd& target,
+  TargetCost(const EquilibriumProblem& problem, Eigen::VectorXd target,
              const InverseOptions& options)
       : problem_(problem),
-        target_(target),
+        target_(std::move(target)),
         options_(options),
         solver_(problem, options.equilibrium),
         warm_start_(Eigen::VectorXd::Zero(problem.NumUnknowns())) {
@@ -101,7 +102,7 @@ InverseResult SolvePressuresForTarget(const EquilibriumProblem& problem,
   // Starts: mid-range pressures, then each actuator alone at mid-range.
   std::vector<Eigen::VectorXd> starts = {Eigen::VectorXd::Constant(m, 0.5)};
   for (int k = 0; k < m; ++k) {
-    starts.push_back(Eigen::VectorXd::Constant(m, 0.05));
+    starts.emplace_back(Eigen::VectorXd::Constant(m, 0.05));
     starts.back()[k] = 0.5;
   }
 

@@ -17,7 +17,7 @@ namespace {
 // differ by one level of one actuator.
 class GrayCounter {
  public:
-  GrayCounter(long long start, int radix, int num_digits)
+  GrayCounter(int64_t start, int radix, int num_digits)
       : radix_(radix), counter_(num_digits), gray_(num_digits) {
     for (int i = num_digits - 1; i >= 0; --i, start /= radix) {
       counter_[i] = static_cast<int>(start % radix);
@@ -33,8 +33,8 @@ class GrayCounter {
     UpdateGray();
   }
   // Row of the current configuration in lexicographic order of its levels.
-  long long LexicographicIndex() const {
-    long long index = 0;
+  int64_t LexicographicIndex() const {
+    int64_t index = 0;
     for (int d : gray_) index = index * radix_ + d;
     return index;
   }
@@ -54,7 +54,7 @@ class GrayCounter {
 
 // Configurations per run of the Gray-code order that one thread solves in
 // sequence (see ComputeWorkspace).
-constexpr long long kRunLength = 128;
+constexpr int64_t kRunLength = 128;
 
 }  // namespace
 
@@ -108,7 +108,7 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
   const int radix = static_cast<int>(options.pressure_levels_mpa.size());
   const int num_actuators = problem.NumActuators();
   const int n = problem.NumUnknowns();
-  long long count = 1;
+  int64_t count = 1;
   for (int i = 0; i < num_actuators; ++i) count *= radix;
 
   WorkspaceMap& map = *map_out;
@@ -123,17 +123,17 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
   // work takes fewer runs instead of holding everyone up, and the map does
   // not depend on the number of threads. Each run starts from rest; longer
   // runs would spend fewer cold starts but balance the threads worse.
-  const long long num_runs = (count + kRunLength - 1) / kRunLength;
+  const int64_t num_runs = (count + kRunLength - 1) / kRunLength;
   const int hardware = static_cast<int>(std::thread::hardware_concurrency());
-  const int num_threads = static_cast<int>(std::min<long long>(
+  const int num_threads = static_cast<int>(std::min<int64_t>(
       num_runs,
       options.num_threads > 0 ? options.num_threads : std::max(1, hardware)));
-  const auto solve_run = [&](long long begin, long long end) {
+  const auto solve_run = [&](int64_t begin, int64_t end) {
     EquilibriumSolver solver(problem, options.equilibrium);
     GrayCounter gray(begin, radix, num_actuators);
     Eigen::VectorXd pressures(num_actuators);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(n), warm_start(n);
-    for (long long g = begin; g < end; ++g, gray.Increment()) {
+    for (int64_t g = begin; g < end; ++g, gray.Increment()) {
       for (int a = 0; a < num_actuators; ++a) {
         pressures[a] = options.pressure_levels_mpa[gray.digits()[a]];
       }
@@ -145,7 +145,7 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
         summary = solver.Solve(pressures, &x);
         if (!summary.converged()) x = warm_start;
       }
-      const long long row = gray.LexicographicIndex();
+      const int64_t row = gray.LexicographicIndex();
       map.pressures_mpa.row(row) = pressures.transpose();
       if (summary.converged()) {
         map.displacements_mm.row(row) = x.transpose();
@@ -169,9 +169,9 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
     }
   };
 
-  std::atomic<long long> next_run{0};
+  std::atomic<int64_t> next_run{0};
   const auto take_runs = [&] {
-    for (long long run; (run = next_run.fetch_add(1)) < num_runs;) {
+    for (int64_t run; (run = next_run.fetch_add(1)) < num_runs;) {
       solve_run(run * kRunLength, std::min(count, (run + 1) * kRunLength));
     }
   };
@@ -185,7 +185,7 @@ void ComputeWorkspace(const EquilibriumProblem& problem,
   map.num_outside_range = static_cast<int>(
       std::count(map.in_range.begin(), map.in_range.end(), uint8_t{0}));
   map.num_beyond_reach = 0;
-  for (long long i = 0; i < count; ++i) {
+  for (int64_t i = 0; i < count; ++i) {
     if (map.summaries[i].converged() && map.within_reach[i] == 0) {
       ++map.num_beyond_reach;
     }

@@ -16,13 +16,15 @@ packages=(
   libpoppler-cpp-dev   # the tests rasterise those sheets to measure them
   opencv-doc           # the tests calibrate on its chessboard photos left*.jpg
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev
-  libgtest-dev libbenchmark-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   chromium  # the tests open every HTML report in it (report/check_in_chromium.sh)
   python3   # .ci/check_layers.py, run by the tests
   clang libclang-rt-14-dev  # the fuzz preset: libFuzzer with ASan and UBSan
+  clang-format clang-tidy   # the lint preset (.ci/lint.py)
 )
-# Node.js and npm install the report's plotting libraries (report/); any
-# Node.js >= 18 will do, so an existing one (e.g. NodeSource's) is kept.
+# Node.js and npm install the report's plotting libraries and ESLint
+# (report/); any Node.js >= 18.18 will do, so an existing one (e.g.
+# NodeSource's) is kept.
 if ! command -v npm >/dev/null 2>&1; then packages+=(nodejs npm); fi
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(python3-numpy python3-scipy python3-pandas python3-yaml

@@ -2,6 +2,7 @@
 #define SOFTBENCH_UTIL_STATISTICS_H_
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -16,7 +17,7 @@ template <typename T>
 T Quantile(std::vector<T> values, double q) {
   SOFTBENCH_CHECK(!values.empty() && q >= 0.0 && q <= 1.0)
       << values.size() << " values, q = " << q;
-  const size_t k = static_cast<size_t>(q * (values.size() - 1) + 0.5);
+  const auto k = static_cast<size_t>(std::lround(q * (values.size() - 1)));
   std::nth_element(values.begin(), values.begin() + k, values.end());
   return values[k];
 }

@@ -93,7 +93,7 @@ BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
     }
   }
   for (const Eigen::Vector2d& p : patches_.reference_px()) {
-    patch_rays_.push_back(camera_.Undistort(p).homogeneous());
+    patch_rays_.emplace_back(camera_.Undistort(p).homogeneous());
   }
 }
 
@@ -105,7 +105,7 @@ Eigen::Vector2d BenchRegistration::Predict(const CameraMotion& motion,
 
 Eigen::Vector2d BenchRegistration::Misfit(const CameraMotion& motion,
                                           const Point& p) const {
-  const Eigen::Vector2d d = Predict(motion, p.ray) - p.pixel;
+  Eigen::Vector2d d = Predict(motion, p.ray) - p.pixel;
   if (p.normal == Eigen::Vector2d::Zero()) return d;
   return {p.normal.dot(d), 0.0};
 }

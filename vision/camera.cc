@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
+#include <utility>
 #include <vector>
 
 namespace softbench {
@@ -46,11 +47,10 @@ std::optional<std::string> CameraIntrinsics::Problem() const {
 }
 
 Camera::Camera(const CameraIntrinsics& intrinsics,
-               const Eigen::Matrix3d& camera_from_world,
-               const Eigen::Vector3d& translation)
+               Eigen::Matrix3d camera_from_world, Eigen::Vector3d translation)
     : intrinsics_(intrinsics),
-      camera_from_world_(camera_from_world),
-      translation_(translation) {}
+      camera_from_world_(std::move(camera_from_world)),
+      translation_(std::move(translation)) {}
 
 Camera Camera::LookingDown(const CameraIntrinsics& intrinsics,
                            const Eigen::Vector3d& target, double distance_mm,
@@ -66,7 +66,7 @@ Camera Camera::LookingDown(const CameraIntrinsics& intrinsics,
   // The target lies on the optical axis at `distance_mm`.
   const Eigen::Vector3d translation =
       Eigen::Vector3d(0, 0, distance_mm) - camera_from_world * target;
-  return Camera(intrinsics, camera_from_world, translation);
+  return {intrinsics, camera_from_world, translation};
 }
 
 bool Camera::HasDistortion() const {

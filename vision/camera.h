@@ -38,9 +38,8 @@ struct CameraIntrinsics {
 // x right, y down, z forward).
 class Camera {
  public:
-  Camera(const CameraIntrinsics& intrinsics,
-         const Eigen::Matrix3d& camera_from_world,
-         const Eigen::Vector3d& translation);
+  Camera(const CameraIntrinsics& intrinsics, Eigen::Matrix3d camera_from_world,
+         Eigen::Vector3d translation);
 
   // A camera `distance_mm` from `target` (world), looking at it from above
   // with image right along +X and image up along +Y when untilted, then tilted

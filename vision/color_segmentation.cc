@@ -187,7 +187,7 @@ double MeanHue(const cv::Mat& hsv, const cv::Mat& mask, const cv::Rect& box) {
   for (int y = inside.y; y < inside.y + inside.height; ++y) {
     for (int x = inside.x; x < inside.x + inside.width; ++x) {
       if (mask.at<uint8_t>(y, x) == 0) continue;
-      const cv::Vec3b p = hsv.at<cv::Vec3b>(y, x);
+      const cv::Vec3b& p = hsv.at<cv::Vec3b>(y, x);
       const double angle = p[0] * std::numbers::pi / 90.0;  // 180 -> 2 pi
       sum_cos += std::cos(angle) * p[1];
       sum_sin += std::sin(angle) * p[1];

@@ -100,10 +100,10 @@ double ReferenceWhiteLinear(Transfer transfer) {
 }
 
 Eigen::Matrix3d Bt709FromBt2020() {
-  static const Eigen::Matrix3d m =
+  static const Eigen::Matrix3d kMatrix =
       XyzFromRgb({0.640, 0.330, 0.300, 0.600, 0.150, 0.060}).inverse() *
       XyzFromRgb({0.708, 0.292, 0.170, 0.797, 0.131, 0.046});
-  return m;
+  return kMatrix;
 }
 
 const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
@@ -143,7 +143,11 @@ CodeFromLinearTable::CodeFromLinearTable(Transfer transfer) : codes_(kSize) {
 
 uint16_t CodeFromLinearTable::operator()(float linear) const {
   const float s = std::sqrt(std::clamp(linear, 0.0f, 1.0f));
-  return codes_[static_cast<int>(s * (kSize - 1) + 0.5f)];
+  // s >= 0: adding a half and truncating rounds, faster than lround per
+  // pixel.
+  const int index =
+      static_cast<int>(s * (kSize - 1) + 0.5f);  // NOLINT(bugprone-*)
+  return codes_[index];
 }
 
 SdrConverter::SdrConverter(const ColorEncoding& from, double white_linear)
@@ -163,8 +167,10 @@ cv::Mat SdrConverter::Convert(const cv::Mat& bgr16) const {
   CV_Assert(bgr16.type() == CV_16UC3);
   cv::Mat out(bgr16.size(), CV_8UC3);
   const auto code = [&](float linear) {
-    return from_linear_[static_cast<int>(
-        std::clamp(linear, 0.0f, 1.0f) * 65535.0f + 0.5f)];
+    // Non-negative: adding a half and truncating rounds (per pixel).
+    const float scaled = std::clamp(linear, 0.0f, 1.0f) * 65535.0f;
+    const int index = static_cast<int>(scaled + 0.5f);  // NOLINT(bugprone-*)
+    return from_linear_[index];
   };
   for (int v = 0; v < bgr16.rows; ++v) {
     const auto* in = bgr16.ptr<cv::Vec3w>(v);
@@ -193,11 +199,11 @@ cv::Mat ConvertFromSdr(const cv::Mat& bgr, const ColorEncoding& to) {
   const bool mix = to.primaries == Primaries::kBt2020;
   const Eigen::Matrix3f mixing = mix ? InBgrOrder(Bt709FromBt2020().inverse())
                                      : Eigen::Matrix3f::Identity();
-  static const CodeFromLinearTable sdr(Transfer::kSdr), hlg(Transfer::kHlg),
-      pq(Transfer::kPq);
-  const CodeFromLinearTable& table = to.transfer == Transfer::kHlg  ? hlg
-                                     : to.transfer == Transfer::kPq ? pq
-                                                                    : sdr;
+  static const CodeFromLinearTable kSdrTable(Transfer::kSdr),
+      kHlgTable(Transfer::kHlg), kPqTable(Transfer::kPq);
+  const CodeFromLinearTable& table = to.transfer == Transfer::kHlg  ? kHlgTable
+                                     : to.transfer == Transfer::kPq ? kPqTable
+                                                                    : kSdrTable;
   cv::Mat out(bgr.size(), CV_16UC3);
   cv::parallel_for_(cv::Range(0, bgr.rows), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {

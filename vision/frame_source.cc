@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 namespace softbench {
 
@@ -21,8 +22,8 @@ cv::Rect BoxAround(const std::vector<Eigen::Vector2d>& points, double margin_px,
          cv::Rect(cv::Point(0, 0), size);
 }
 
-ImageFrameSource::ImageFrameSource(const cv::Mat& bgr, double time_s)
-    : bgr_(bgr), time_s_(time_s) {
+ImageFrameSource::ImageFrameSource(cv::Mat bgr, double time_s)
+    : bgr_(std::move(bgr)), time_s_(time_s) {
   cv::cvtColor(bgr_, luma_, cv::COLOR_BGR2GRAY);
 }
 

@@ -36,7 +36,7 @@ class FrameSource {
 // BT.601 grey.
 class ImageFrameSource : public FrameSource {
  public:
-  explicit ImageFrameSource(const cv::Mat& bgr, double time_s = 0.0);
+  explicit ImageFrameSource(cv::Mat bgr, double time_s = 0.0);
   const cv::Mat& luma() const override { return luma_; }
   cv::Mat BgrRegion(const cv::Rect& region) const override;
   cv::Mat BgrRegionReduced(const cv::Rect& region,

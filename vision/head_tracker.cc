@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 namespace softbench {
 
@@ -58,10 +59,11 @@ double RigidFit(const std::vector<Eigen::Vector2d>& from,
 
 }  // namespace
 
-HeadTracker::HeadTracker(const PlaneMapping& mapping,
-                         std::vector<HeadMarkers> heads,
+HeadTracker::HeadTracker(PlaneMapping mapping, std::vector<HeadMarkers> heads,
                          const HeadTrackerOptions& options)
-    : mapping_(mapping), heads_(std::move(heads)), options_(options) {
+    : mapping_(std::move(mapping)),
+      heads_(std::move(heads)),
+      options_(options) {
   const CameraIntrinsics& k = mapping_.intrinsics();
   const double mm_per_px = mapping_.MmPerPixelAt(
       Eigen::Vector2d(k.width_px / 2.0, k.height_px / 2.0));

@@ -88,7 +88,7 @@ struct HeadObservation {
 // missing (never interpolated).
 class HeadTracker {
  public:
-  HeadTracker(const PlaneMapping& mapping, std::vector<HeadMarkers> heads,
+  HeadTracker(PlaneMapping mapping, std::vector<HeadMarkers> heads,
               const HeadTrackerOptions& options = {});
 
   // Measures every head in one frame.

@@ -6,12 +6,13 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <utility>
 
 namespace softbench {
 
-PlaneMapping::PlaneMapping(const Camera& camera,
+PlaneMapping::PlaneMapping(Camera camera,
                            const Eigen::Matrix3d& plane_from_normalized)
-    : camera_(camera),
+    : camera_(std::move(camera)),
       plane_from_normalized_(plane_from_normalized),
       normalized_from_plane_(plane_from_normalized.inverse()) {}
 
@@ -79,7 +80,7 @@ std::vector<Eigen::Vector2d> PlaneMapping::ToPlane(
   for (const Eigen::Vector2d& p : pixels) cv_pixels.emplace_back(p.x(), p.y());
   for (const Eigen::Vector2d& n : camera_.UndistortPixels(cv_pixels)) {
     const Eigen::Vector3d q = plane_from_normalized_ * n.homogeneous();
-    out.push_back(q.head<2>() / q.z());
+    out.emplace_back(q.head<2>() / q.z());
   }
   return out;
 }

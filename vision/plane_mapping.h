@@ -58,8 +58,7 @@ class PlaneMapping {
   const CameraIntrinsics& intrinsics() const { return camera_.intrinsics(); }
 
  private:
-  PlaneMapping(const Camera& camera,
-               const Eigen::Matrix3d& plane_from_normalized);
+  PlaneMapping(Camera camera, const Eigen::Matrix3d& plane_from_normalized);
 
   Camera camera_;  // its intrinsics (undistortion) and the tag's pose
   Eigen::Matrix3d plane_from_normalized_;

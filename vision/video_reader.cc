@@ -327,8 +327,8 @@ struct VideoReader::State {
   cv::Mat Luma() {
     const int w = frame->width, h = frame->height;
     const bool deep = desc->comp[0].step == 2;
-    const cv::Mat plane(h, w, deep ? CV_16UC1 : CV_8UC1, frame->data[0],
-                        frame->linesize[0]);
+    cv::Mat plane(h, w, deep ? CV_16UC1 : CV_8UC1, frame->data[0],
+                  frame->linesize[0]);
     if (info.rotation_deg == 0 && luma_shift == 0) return plane;
     if (deep && (info.rotation_deg == 90 || info.rotation_deg == 270)) {
       QuarterTurn16(plane, info.rotation_deg, luma_shift, &luma_upright);

@@ -78,7 +78,8 @@ struct VideoInfo {
 // silently short read.
 class VideoReader {
  public:
-  VideoReader(const std::string& path, const VideoReaderOptions& options = {});
+  explicit VideoReader(const std::string& path,
+                       const VideoReaderOptions& options = {});
   ~VideoReader();
   VideoReader(const VideoReader&) = delete;
   VideoReader& operator=(const VideoReader&) = delete;

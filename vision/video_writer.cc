@@ -142,6 +142,96 @@ struct VideoWriter::State {
               frame->linesize);
   }
 
+  // The colours' description (primaries, matrix, transfer, range) as the
+  // stream and the container state it.
+  void SetColorDescription() {
+    const bool bt2020 = options.encoding.primaries == Primaries::kBt2020;
+    codec->color_primaries = bt2020 ? AVCOL_PRI_BT2020 : AVCOL_PRI_BT709;
+    codec->colorspace = bt2020 ? AVCOL_SPC_BT2020_NCL : AVCOL_SPC_BT709;
+    switch (options.encoding.transfer) {
+      case Transfer::kHlg:
+        codec->color_trc = AVCOL_TRC_ARIB_STD_B67;
+        break;
+      case Transfer::kPq:
+        codec->color_trc = AVCOL_TRC_SMPTE2084;
+        break;
+      case Transfer::kSdr:
+        codec->color_trc = bt2020
+                               ? (options.bit_depth > 10 ? AVCOL_TRC_BT2020_12
+                                                         : AVCOL_TRC_BT2020_10)
+                               : AVCOL_TRC_BT709;
+        break;
+    }
+    codec->color_range =
+        options.full_range ? AVCOL_RANGE_JPEG : AVCOL_RANGE_MPEG;
+  }
+
+  // Quality (CRF or bit rate with a phone's VBV buffer), the codec's quiet
+  // parameters and its container tag (VideoCodecs()).
+  void SetRateControl(const VideoCodec& table_codec) {
+    av_opt_set(codec->priv_data, "preset", options.preset.c_str(), 0);
+    if (options.bitrate_mbps > 0.0) {
+      codec->bit_rate = static_cast<int64_t>(options.bitrate_mbps * 1e6);
+      codec->rc_max_rate = codec->bit_rate * 3 / 2;
+      codec->rc_buffer_size = static_cast<int>(codec->bit_rate);
+    } else {
+      av_opt_set(codec->priv_data, "crf", std::to_string(options.crf).c_str(),
+                 0);
+    }
+    if (!table_codec.params_option.empty()) {
+      std::string params(table_codec.params);
+      const size_t at = params.find("{threads}");
+      if (at != std::string::npos) {
+        params.replace(at, 9, std::to_string(options.threads));
+      }
+      av_opt_set(codec->priv_data,
+                 std::string(table_codec.params_option).c_str(), params.c_str(),
+                 0);
+    }
+    if (table_codec.container_tag.size() == 4) {
+      const std::string_view t = table_codec.container_tag;
+      codec->codec_tag = MKTAG(t[0], t[1], t[2], t[3]);
+    }
+  }
+
+  // The stream (with a phone's rotation matrix), the file and the header,
+  // colr atom and moov first.
+  void WriteHeader() {
+    stream = avformat_new_stream(format, nullptr);
+    avcodec_parameters_from_context(stream->codecpar, codec);
+    stream->time_base = codec->time_base;
+    if (options.rotation_deg % 360 != 0) {
+      auto* matrix = reinterpret_cast<int32_t*>(av_stream_new_side_data(
+          stream, AV_PKT_DATA_DISPLAYMATRIX, 9 * sizeof(int32_t)));
+      // As phones write it: av_display_rotation_get() of this matrix is minus
+      // the clockwise rotation a player applies (ffmpeg's autorotate).
+      av_display_rotation_set(matrix, options.rotation_deg);
+    }
+    int err = avio_open(&format->pb, path.c_str(), AVIO_FLAG_WRITE);
+    if (err < 0) Fail("cannot create the file", err);
+    AVDictionary* muxer_options = nullptr;
+    // The colour description goes into the container too (the colr atom), as
+    // phones write it.
+    av_dict_set(&muxer_options, "movflags", "+faststart+write_colr", 0);
+    err = avformat_write_header(format, &muxer_options);
+    av_dict_free(&muxer_options);
+    if (err < 0) Fail("cannot write the header", err);
+  }
+
+  void AllocateFrame(int width_px, int height_px) {
+    frame = av_frame_alloc();
+    frame->format = codec->pix_fmt;
+    frame->width = width_px;
+    frame->height = height_px;
+    frame->color_range = codec->color_range;
+    frame->color_primaries = codec->color_primaries;
+    frame->color_trc = codec->color_trc;
+    frame->colorspace = codec->colorspace;
+    const int err = av_frame_get_buffer(frame, 0);
+    if (err < 0) Fail("out of memory", err);
+    packet = av_packet_alloc();
+  }
+
   ~State() {
     sws_freeContext(sws);
     av_frame_free(&frame);
@@ -194,86 +284,18 @@ VideoWriter::VideoWriter(const std::string& path, int width_px, int height_px,
       1,
       static_cast<int>(std::lround(options.fps * options.keyframe_interval_s)));
   s.codec->thread_count = options.threads;
-  const bool bt2020 = options.encoding.primaries == Primaries::kBt2020;
-  s.codec->color_primaries = bt2020 ? AVCOL_PRI_BT2020 : AVCOL_PRI_BT709;
-  s.codec->colorspace = bt2020 ? AVCOL_SPC_BT2020_NCL : AVCOL_SPC_BT709;
-  switch (options.encoding.transfer) {
-    case Transfer::kHlg:
-      s.codec->color_trc = AVCOL_TRC_ARIB_STD_B67;
-      break;
-    case Transfer::kPq:
-      s.codec->color_trc = AVCOL_TRC_SMPTE2084;
-      break;
-    case Transfer::kSdr:
-      s.codec->color_trc = bt2020
-                               ? (options.bit_depth > 10 ? AVCOL_TRC_BT2020_12
-                                                         : AVCOL_TRC_BT2020_10)
-                               : AVCOL_TRC_BT709;
-      break;
-  }
-  s.codec->color_range =
-      options.full_range ? AVCOL_RANGE_JPEG : AVCOL_RANGE_MPEG;
+  s.SetColorDescription();
   s.codec->flags |= AV_CODEC_FLAG_BITEXACT;
   if (s.format->oformat->flags & AVFMT_GLOBALHEADER) {
     s.codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   }
-  av_opt_set(s.codec->priv_data, "preset", options.preset.c_str(), 0);
-  if (options.bitrate_mbps > 0.0) {
-    s.codec->bit_rate = static_cast<int64_t>(options.bitrate_mbps * 1e6);
-    s.codec->rc_max_rate = s.codec->bit_rate * 3 / 2;
-    s.codec->rc_buffer_size = static_cast<int>(s.codec->bit_rate);
-  } else {
-    av_opt_set(s.codec->priv_data, "crf", std::to_string(options.crf).c_str(),
-               0);
-  }
-  if (!table_codec.params_option.empty()) {
-    std::string params(table_codec.params);
-    const size_t at = params.find("{threads}");
-    if (at != std::string::npos) {
-      params.replace(at, 9, std::to_string(options.threads));
-    }
-    av_opt_set(s.codec->priv_data,
-               std::string(table_codec.params_option).c_str(), params.c_str(),
-               0);
-  }
-  if (table_codec.container_tag.size() == 4) {
-    const std::string_view t = table_codec.container_tag;
-    s.codec->codec_tag = MKTAG(t[0], t[1], t[2], t[3]);
-  }
+  s.SetRateControl(table_codec);
   err = avcodec_open2(s.codec, encoder, nullptr);
   if (err < 0) s.Fail("cannot open " + encoder_name, err);
 
-  s.stream = avformat_new_stream(s.format, nullptr);
-  avcodec_parameters_from_context(s.stream->codecpar, s.codec);
-  s.stream->time_base = s.codec->time_base;
-  if (options.rotation_deg % 360 != 0) {
-    auto* matrix = reinterpret_cast<int32_t*>(av_stream_new_side_data(
-        s.stream, AV_PKT_DATA_DISPLAYMATRIX, 9 * sizeof(int32_t)));
-    // As phones write it: av_display_rotation_get() of this matrix is minus
-    // the clockwise rotation a player applies (ffmpeg's autorotate).
-    av_display_rotation_set(matrix, options.rotation_deg);
-  }
-  err = avio_open(&s.format->pb, path.c_str(), AVIO_FLAG_WRITE);
-  if (err < 0) s.Fail("cannot create the file", err);
-  AVDictionary* muxer_options = nullptr;
-  // The colour description goes into the container too (the colr atom), as
-  // phones write it.
-  av_dict_set(&muxer_options, "movflags", "+faststart+write_colr", 0);
-  err = avformat_write_header(s.format, &muxer_options);
-  av_dict_free(&muxer_options);
-  if (err < 0) s.Fail("cannot write the header", err);
+  s.WriteHeader();
 
-  s.frame = av_frame_alloc();
-  s.frame->format = s.codec->pix_fmt;
-  s.frame->width = width_px;
-  s.frame->height = height_px;
-  s.frame->color_range = s.codec->color_range;
-  s.frame->color_primaries = s.codec->color_primaries;
-  s.frame->color_trc = s.codec->color_trc;
-  s.frame->colorspace = s.codec->colorspace;
-  err = av_frame_get_buffer(s.frame, 0);
-  if (err < 0) s.Fail("out of memory", err);
-  s.packet = av_packet_alloc();
+  s.AllocateFrame(width_px, height_px);
   s.open = true;
 }
 

@@ -55,8 +55,8 @@ ForceLogColumns ParseColumns(const YamlReader& reader, const YAML::Node& root) {
       const PressureUnit* named =
           underscore == std::string::npos
               ? nullptr
-              : FindPressureUnit(
-                    std::string_view(columns.pressure).substr(underscore + 1));
+              : FindPressureUnit(static_cast<std::string_view>(columns.pressure)
+                                     .substr(underscore + 1));
       if (named != nullptr &&
           *MpaPerPressureUnit(unit) != named->mpa_per_unit) {
         reader.Fail(

@@ -165,11 +165,11 @@ void CheckOutputsSpareInputs(const std::vector<NamedPath>& inputs,
   for (const NamedPath& output : output_files) {
     if (!Checked(output)) continue;
     const fs::path path = Resolved(output.path);
-    for (size_t i = 0; i < earlier.size(); ++i) {
-      if (earlier[i].second != path) continue;
+    for (auto& i : earlier) {
+      if (i.second != path) continue;
       throw InputError(fmt::format(
           "{}: {} is also {} ({}); write to another file", output.option,
-          output.path, earlier[i].first->option, earlier[i].first->path));
+          output.path, i.first->option, i.first->path));
     }
     earlier.emplace_back(&output, path);
   }

@@ -105,7 +105,8 @@ std::string CombinedPressureUnit(const FitCommandOptions& flags) {
   const CsvReader reader(flags.input_path);
   for (const std::string& column : reader.header()) {
     if (column.starts_with("pressure_") &&
-        FindPressureUnit(std::string_view(column).substr(9)) != nullptr) {
+        FindPressureUnit(static_cast<std::string_view>(column).substr(9)) !=
+            nullptr) {
       return column.substr(9);
     }
   }

@@ -7,8 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "model/equilibrium.h"
-#include "model/inverse.h"
+#include "model/prediction.h"
 #include "pipelines/commands/command_output.h"
 #include "pipelines/commands/common_flags.h"
 #include "pipelines/commands/model_flags.h"
@@ -50,9 +49,9 @@ std::string BeyondReachWhy(const ReachCheck& reach,
       reach.distance_mm, max_in_unit, resolved.pressure_unit);
 }
 
-}  // namespace
-
-int RunPredict(const PredictOptions& options, std::ostream& out) {
+// The command line's promises checked before any work: one input, and an
+// --out that can be written and spares the inputs.
+void CheckPredictFlags(const PredictOptions& options) {
   if (options.pressures.empty() == options.input_path.empty()) {
     throw InputError(
         "predict: give either a pressures CSV or --pressures (one of them)");
@@ -72,87 +71,86 @@ int RunPredict(const PredictOptions& options, std::ostream& out) {
          {"--mechanism", builtin ? "" : options.model.mechanism}},
         {{"--out", options.output_path}}, {});
   }
-  const ResolvedModel resolved = ResolveModel(options.model);
+}
+
+// The pressures to predict: --pressures (one configuration) or the CSV's
+// rows, with the unit they are in.
+PressureRows PredictInputRows(const PredictOptions& options,
+                              const ResolvedModel& resolved) {
   const Mechanism& mechanism = resolved.mechanism;
   const int num_actuators = mechanism.NumActuators();
-
-  std::vector<Eigen::VectorXd> rows;
-  std::string unit = resolved.pressure_unit;
-  double mpa_per_unit = resolved.mpa_per_unit;
-  if (!options.pressures.empty()) {
-    RequirePressureUnit(resolved, "--pressures");
-    const std::vector<double> values =
-        ParseNumberList(options.pressures, "--pressures");
-    if (static_cast<int>(values.size()) != num_actuators) {
-      throw InputError(fmt::format(
-          "--pressures: {} values given but mechanism '{}' has {} actuators",
-          values.size(), mechanism.name, num_actuators));
-    }
-    for (double p : values) {
-      if (const std::optional<std::string> why =
-              ImplausiblePressure(p, mpa_per_unit, unit)) {
-        throw InputError("--pressures: " + *why);
-      }
-    }
-    rows.push_back(
-        Eigen::Map<const Eigen::VectorXd>(values.data(), num_actuators));
-  } else {
+  if (options.pressures.empty()) {
     PressureCsvOptions csv;
     csv.num_actuators = num_actuators;
-    if (!unit.empty()) csv.stated_unit = unit;
+    if (!resolved.pressure_unit.empty())
+      csv.stated_unit = resolved.pressure_unit;
     csv.how_to_state = "or pass --pressure-unit";
     csv.decimal_mark = DecimalMarkFromFlag(options.decimal_comma);
-    PressureRows read = ReadPressureRows(options.input_path, csv);
-    rows = std::move(read.rows);
-    unit = read.unit;
-    mpa_per_unit = read.mpa_per_unit;
+    return ReadPressureRows(options.input_path, csv);
   }
+  RequirePressureUnit(resolved, "--pressures");
+  const std::vector<double> values =
+      ParseNumberList(options.pressures, "--pressures");
+  if (static_cast<int>(values.size()) != num_actuators) {
+    throw InputError(fmt::format(
+        "--pressures: {} values given but mechanism '{}' has {} actuators",
+        values.size(), mechanism.name, num_actuators));
+  }
+  for (double p : values) {
+    if (const std::optional<std::string> why = ImplausiblePressure(
+            p, resolved.mpa_per_unit, resolved.pressure_unit)) {
+      throw InputError("--pressures: " + *why);
+    }
+  }
+  PressureRows read;
+  read.rows.emplace_back(
+      Eigen::Map<const Eigen::VectorXd>(values.data(), num_actuators));
+  read.unit = resolved.pressure_unit;
+  read.mpa_per_unit = resolved.mpa_per_unit;
+  return read;
+}
+
+}  // namespace
+
+int RunPredict(const PredictOptions& options, std::ostream& out) {
+  CheckPredictFlags(options);
+  const ResolvedModel resolved = ResolveModel(options.model);
+  const Mechanism& mechanism = resolved.mechanism;
+  const PressureRows read = PredictInputRows(options, resolved);
+  const std::vector<Eigen::VectorXd>& rows = read.rows;
+  const std::string& unit = read.unit;
+  const double mpa_per_unit = read.mpa_per_unit;
 
   const EquilibriumProblem problem(mechanism, resolved.force_model);
-  EquilibriumSolver solver(problem);
+  std::vector<Eigen::VectorXd> rows_mpa;
+  rows_mpa.reserve(rows.size());
+  for (const Eigen::VectorXd& row : rows)
+    rows_mpa.emplace_back(row * mpa_per_unit);
+  const std::vector<Prediction> predictions =
+      PredictEquilibria(problem, resolved.range, rows_mpa);
   PredictionTable table(mechanism, unit);
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(problem.NumUnknowns());
   int not_converged = 0;
   int outside = 0;
   std::string first_outside;
   int beyond_reach = 0;
   double first_beyond_reach = 0.0;
-  for (const Eigen::VectorXd& row : rows) {
-    const Eigen::VectorXd pressures_mpa = row * mpa_per_unit;
-    // Rows are often neighbours; start from the previous solution and fall
-    // back to the rest state.
-    EquilibriumSummary summary = solver.Solve(pressures_mpa, &x);
-    if (!summary.converged()) {
-      x.setZero();
-      summary = solver.Solve(pressures_mpa, &x);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Prediction& p = predictions[i];
+    const bool converged = p.summary.converged();
+    not_converged += converged ? 0 : 1;
+    if (p.outside_range && outside++ == 0) first_outside = *p.outside_range;
+    if (converged && !p.reach.within && beyond_reach++ == 0) {
+      first_beyond_reach = p.reach.distance_mm;
     }
-    if (!summary.converged()) {
-      ++not_converged;
-      x.setZero();
-    }
-    const std::optional<std::string> beyond =
-        summary.converged()
-            ? OutsideCharacterisedRange(resolved.range, problem, pressures_mpa,
-                                        x)
-            : PressuresOutsideCharacterisedRange(resolved.range, pressures_mpa);
-    if (beyond && outside++ == 0) first_outside = *beyond;
-    // Only pressures beyond the range can carry the heads out of reach.
-    const ReachCheck reach =
-        summary.converged()
-            ? ReachOfPrediction(problem, resolved.range, pressures_mpa, x)
-            : ReachCheck{false, std::numeric_limits<double>::quiet_NaN()};
-    if (summary.converged() && !reach.within && beyond_reach++ == 0) {
-      first_beyond_reach = reach.distance_mm;
-    }
-    table.AddRow(row, x, summary, !beyond, reach.within);
+    table.AddRow(rows[i], p.x, p.summary, !p.outside_range, p.reach.within);
     if (!options.pressures.empty()) {
       out << fmt::format("{} {}, p = ({}) {}: ", mechanism.name,
                          resolved.model_name, options.pressures, unit)
-          << (summary.converged() ? FormatHeadPositions(mechanism, x)
-                                  : "no equilibrium found")
-          << " [" << summary.Message() << "]"
-          << (summary.converged() && !reach.within
-                  ? " BEYOND REACH: " + BeyondReachWhy(reach, resolved)
+          << (converged ? FormatHeadPositions(mechanism, p.x)
+                        : "no equilibrium found")
+          << " [" << p.summary.Message() << "]"
+          << (converged && !p.reach.within
+                  ? " BEYOND REACH: " + BeyondReachWhy(p.reach, resolved)
                   : "")
           << "\n";
     }

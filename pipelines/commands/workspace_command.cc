@@ -54,7 +54,7 @@ int CheckedIntervals(const WorkspaceCommandOptions& options, int num_actuators,
         options.step, options.max_pressure));
   }
   const double intervals = options.max_pressure / options.step;
-  const long long num_intervals = std::llround(intervals);
+  const int64_t num_intervals = std::llround(intervals);
   if (std::abs(intervals - num_intervals) > 1e-9 * std::max(1.0, intervals)) {
     throw InputError(fmt::format(
         "--max {} is not a whole number of --step {}; choose a step that "

@@ -32,7 +32,7 @@ int FindPressureColumn(const CsvReader& reader, int a, std::string* unit) {
     }
     if (!name.starts_with(plain + "_")) continue;
     const std::string_view suffix =
-        std::string_view(name).substr(plain.size() + 1);
+        static_cast<std::string_view>(name).substr(plain.size() + 1);
     const PressureUnit* found = FindPressureUnit(suffix);
     if (found == nullptr) {
       throw InputError(fmt::format(

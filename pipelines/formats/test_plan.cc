@@ -403,7 +403,7 @@ std::vector<Eigen::Vector2d> AttachmentDirections(const Mechanism& mechanism,
   for (const Actuator& actuator : mechanism.actuators) {
     const Eigen::Vector2d axis = mechanism.heads[actuator.head].rest_mm -
                                  mechanism.AnchorRestPosition(actuator);
-    if (actuator.head == head) directions.push_back(-axis.normalized());
+    if (actuator.head == head) directions.emplace_back(-axis.normalized());
     if (actuator.anchor.kind == AnchorRef::Kind::kHead &&
         actuator.anchor.index == head) {
       directions.push_back(axis.normalized());

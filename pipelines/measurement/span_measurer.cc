@@ -33,7 +33,7 @@ cv::Mat StaticMask(const TestPlan& plan, const PlaneMapping& mapping,
   const cv::Size size = first.luma().size();
   // Without a head in view the first frame fails later with its own
   // message; no patch is taken meanwhile.
-  if (heads == 0) return cv::Mat(size, CV_8UC1, cv::Scalar(0));
+  if (heads == 0) return {size, CV_8UC1, cv::Scalar(0)};
   offset /= heads;
   std::vector<cv::Point> outline;
   const auto add = [&](const Eigen::Vector2d& mm) {

@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pipelines/formats/test_plan.h"
@@ -56,14 +57,13 @@ class SpanMeasurer {
   // `reader` (luma, not BGR) is not owned. `registration`, when given,
   // registers every frame to the bench before its heads are measured,
   // through `mapping` after the camera's motion.
-  SpanMeasurer(const TestPlan& plan, VideoReader* reader,
-               const PlaneMapping& mapping, double mm_per_px,
-               HeadTracker tracker,
+  SpanMeasurer(const TestPlan& plan, VideoReader* reader, PlaneMapping mapping,
+               double mm_per_px, HeadTracker tracker,
                std::unique_ptr<BenchRegistration> registration,
                const std::vector<SnapshotTime>& snapshot_times,
                std::atomic<int64_t>* frames_done)
       : plan_(&plan),
-        mapping_(mapping),
+        mapping_(std::move(mapping)),
         registration_(std::move(registration)),
         mm_per_px_(mm_per_px),
         reader_(reader),

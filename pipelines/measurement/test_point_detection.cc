@@ -104,7 +104,7 @@ std::vector<std::pair<size_t, size_t>> Excursions(
     if (!runs.empty() && t[i] - t[runs.back().second] < options.min_gap_s) {
       runs.back().second = i;
     } else {
-      runs.push_back({i, i});
+      runs.emplace_back(i, i);
     }
   }
   std::vector<std::pair<size_t, size_t>> split;

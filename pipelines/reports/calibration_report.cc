@@ -136,8 +136,8 @@ double BoardCoverage(const BoardViews& views) {
   cv::Mat reached(kCoverageRows, kCoverageColumns, CV_8UC1, cv::Scalar(0));
   const double sx = static_cast<double>(kCoverageColumns) / views.size.width;
   const double sy = static_cast<double>(kCoverageRows) / views.size.height;
-  for (size_t v = 0; v < views.corners.size(); ++v) {
-    for (const cv::Point2f& p : views.corners[v]) {
+  for (const auto& corner : views.corners) {
+    for (const cv::Point2f& p : corner) {
       const int col =
           std::clamp(static_cast<int>(p.x * sx), 0, kCoverageColumns - 1);
       const int row =

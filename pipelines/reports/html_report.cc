@@ -50,7 +50,6 @@ std::string EscapeSlashAfter(std::string text, std::string_view pattern) {
   return text;
 }
 
-
 }  // namespace
 
 std::string HtmlEscape(const std::string& text) { return Escape(text); }

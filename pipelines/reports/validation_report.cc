@@ -294,8 +294,8 @@ std::string CropSvg(const HeadCrop& crop, const std::vector<CropMark>& marks,
           mark.label);
     } else {
       svg += fmt::format(
-          "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" {}><title>{}</title></circle>",
-          x, y, r, style, mark.label);
+          R"(<circle cx="{}" cy="{}" r="{}" {}><title>{}</title></circle>)", x,
+          y, r, style, mark.label);
     }
   }
   return svg + "</svg>";

@@ -238,8 +238,8 @@ cv::Rect CircleBox(const Camera& camera, const Eigen::Vector2d& centre,
   std::vector<Eigen::Vector2d> circle;
   for (int i = 0; i < 16; ++i) {
     const double a = 2 * std::numbers::pi * i / 16;
-    circle.push_back(centre +
-                     radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    circle.emplace_back(centre +
+                        radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
   }
   return ImageBox(camera, circle, height);
 }
@@ -462,7 +462,7 @@ void SceneRenderer::DrawHead(const MarkerSpec& marker,
   std::vector<Eigen::Vector2d> triangle;
   if (attachments.size() == 3) {
     for (const Eigen::Vector2d& d : attachments) {
-      triangle.push_back(centre - d * side / std::sqrt(3.0));
+      triangle.emplace_back(centre - d * side / std::sqrt(3.0));
     }
     const Eigen::Vector2d e1 = triangle[1] - triangle[0],
                           e2 = triangle[2] - triangle[0];
@@ -504,7 +504,8 @@ void SceneRenderer::DrawTube(cv::Mat* image) const {
       centre_mm_ + Eigen::Vector2d(-70, -140)};
   const cv::Vec3f red = MarkerColorBgr("red");
   for (size_t i = 0; i + 1 < path.size(); ++i) {
-    const Eigen::Vector2d a = path[i], b = path[i + 1];
+    const Eigen::Vector2d& a = path[i];
+    const Eigen::Vector2d& b = path[i + 1];
     Composite(
         *pixels_, on_tube,
         ImageBox(camera_,
@@ -582,7 +583,7 @@ cv::Mat SceneRenderer::Render(
   }
   const cv::Vec3f exposure =
       conditions.channel_gain * static_cast<float>(conditions.brightness);
-  static const CodeFromLinearTable bt709(Transfer::kSdr);
+  static const CodeFromLinearTable kBt709Table(Transfer::kSdr);
   cv::Mat out(linear.size(), options_.sixteen_bit ? CV_16UC3 : CV_8UC3);
   // Fixed stripes, each with its own seeded generator: the same frame for any
   // number of threads.
@@ -605,7 +606,8 @@ cv::Mat SceneRenderer::Render(
           for (int c = 0; c < 3; ++c) {
             const float light = in[u][c] * g[u] * exposure[c];
             // The camera's BT.709 curve, then noise in codes.
-            const float signal = bt709(light / 255.0f) * (255.0f / 65535.0f);
+            const float signal =
+                kBt709Table(light / 255.0f) * (255.0f / 65535.0f);
             const float sigma =
                 std::sqrt(static_cast<float>(options_.noise_sigma_dn *
                                              options_.noise_sigma_dn) +

@@ -426,8 +426,12 @@ std::string DrawDotSheet(const DotSheetOptions& o, SheetFormat format) {
           for (int i = 0; i < g.dots_per_head * o.sets; ++i) {
             const double cx =
                 s.margin_mm + g.diameter_mm / 2.0 + (i % per_row) * pitch;
-            const double cy = y + 7.0 + g.diameter_mm / 2.0 +
-                              static_cast<double>(i / per_row) * pitch;
+            const double cy =
+                y + 7.0 + g.diameter_mm / 2.0 +
+                // The row of dot i: integer division.
+                static_cast<double>(
+                    i / per_row) *  // NOLINT(bugprone-integer-division)
+                    pitch;
             cairo_new_sub_path(cr);
             cairo_arc(cr, cx, cy, g.diameter_mm / 2.0, 0.0,
                       2.0 * std::numbers::pi);

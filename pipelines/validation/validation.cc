@@ -72,7 +72,7 @@ std::string SharedCause(const TestPlan& plan,
                                  plan.pressure_unit));
   }
   if (flagged.size() >= 2 && all_late) {
-    causes.push_back("all in the second half of the run (drift or creep?)");
+    causes.emplace_back("all in the second half of the run (drift or creep?)");
   }
   if (flagged.size() >= 2 && common_actuator >= 0) {
     causes.push_back(fmt::format("all with actuator {} at the highest pressure",

@@ -17,6 +17,7 @@
 #include "pipelines/formats/constants_file.h"
 #include "pipelines/synthetic/force_logs.h"
 #include "tests/support/input_error_matchers.h"
+#include "tests/support/report_page.h"
 #include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
 
@@ -89,7 +90,14 @@ TEST_F(FitCommandTest, WritesConstantsThatRecoverTheTruthAndAReport) {
     EXPECT_TRUE(fs::exists(Path("report/") + file)) << file;
   }
   const std::string html = Read(Path("report/report.html"));
-  EXPECT_NE(html.find("vegaEmbed('#chart5'"), std::string::npos);
+  // Every chart the report promises, found by its title.
+  for (const char* title :
+       {"Axial force against pressure", "Shear force against pressure",
+        "Static offsets at zero pressure", "Static offsets against dL",
+        "Effective areas against theta", "Residuals (measured - model)",
+        "RMS residual per test"}) {
+    EXPECT_TRUE(ChartTitled(html, title).is_object()) << title;
+  }
   // The plotting libraries are inlined: the page needs no network.
   EXPECT_EQ(html.find("<script src="), std::string::npos);
   EXPECT_GT(html.size(), 800000u);

@@ -21,6 +21,7 @@
 #include "tests/support/input_error_matchers.h"
 #include "tests/support/rendered_clip.h"
 #include "tests/support/rendered_truth.h"
+#include "tests/support/report_page.h"
 #include "tests/support/scratch_directory.h"
 #include "util/csv.h"
 #include "util/file_digest.h"
@@ -421,11 +422,9 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
   }
   // Equal axes where positions are drawn: a square plot whose y and z
   // domains span the same millimetres.
-  const size_t start = html.find("vegaEmbed('#chart0', ");
-  ASSERT_NE(start, std::string::npos);
-  const size_t end = html.find(", {actions", start);
   const nlohmann::json positions =
-      nlohmann::json::parse(html.substr(start + 21, end - start - 21));
+      ChartTitled(html, "Measured and predicted displacements");
+  ASSERT_TRUE(positions.is_object());
   const nlohmann::json& spec = positions["spec"];
   EXPECT_EQ(spec["width"], spec["height"]);
   const nlohmann::json& encoding = spec["layer"][1]["encoding"];

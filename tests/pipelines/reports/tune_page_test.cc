@@ -22,9 +22,12 @@ cv::Mat CasePixels() {
   for (int v = 0; v < 256; ++v) bgr.emplace_back(v, v, v);
   for (int a = 0; a < 256; a += 5) {
     for (int b = 0; b < 256; b += 51) {
-      for (const auto& [x, y, z] : {std::tuple{a, b, 255}, {255, a, b},
-                                    {b, 255, a}, {a, 255, 255},
-                                    {255, a, 255}, {255, 255, a}}) {
+      for (const auto& [x, y, z] : {std::tuple{a, b, 255},
+                                    {255, a, b},
+                                    {b, 255, a},
+                                    {a, 255, 255},
+                                    {255, a, 255},
+                                    {255, 255, a}}) {
         bgr.emplace_back(x, y, z);
       }
     }
@@ -39,8 +42,8 @@ cv::Mat CasePixels() {
 
 nlohmann::json Blobs(const cv::Mat& mask) {
   cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(mask, labels, stats,
-                                                 centroids, 8, CV_32S);
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids,
+                                                 8, CV_32S);
   nlohmann::json found = nlohmann::json::array();
   for (int i = 1; i < n; ++i) {
     found.push_back({{"area", stats.at<int>(i, cv::CC_STAT_AREA)},
@@ -81,7 +84,8 @@ TEST(TunePageScript, AgreesWithTheCppOnHsvMasksAndBlobs) {
     shapes.at<uint8_t>(45 + random() % 45, 40 + random() % 80) = 255;
   }
   std::vector<int> shape_mask(shapes.total());
-  for (size_t i = 0; i < shapes.total(); ++i) shape_mask[i] = shapes.data[i] > 0;
+  for (size_t i = 0; i < shapes.total(); ++i)
+    shape_mask[i] = shapes.data[i] > 0;
   cases["blobs"].push_back({{"width", shapes.cols},
                             {"height", shapes.rows},
                             {"mask", shape_mask},
