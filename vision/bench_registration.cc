@@ -192,6 +192,59 @@ std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::FindTag(
   return std::nullopt;
 }
 
+std::vector<double> BenchRegistration::MedianMotionWeights(
+    const std::vector<Point>& points, const CameraMotion& motion) const {
+  std::vector<double> dx, dy;
+  for (const Point& p : points) {
+    const Eigen::Vector2d d = -Misfit(motion, p);
+    dx.push_back(d.x());
+    dy.push_back(d.y());
+  }
+  std::vector<double> sorted_x = dx, sorted_y = dy;
+  std::nth_element(sorted_x.begin(), sorted_x.begin() + dx.size() / 2,
+                   sorted_x.end());
+  std::nth_element(sorted_y.begin(), sorted_y.begin() + dy.size() / 2,
+                   sorted_y.end());
+  const Eigen::Vector2d median(sorted_x[dx.size() / 2],
+                               sorted_y[dy.size() / 2]);
+  std::vector<double> weights(points.size(), 0.0);
+  for (size_t i = 0; i < points.size(); ++i) {
+    weights[i] = (Eigen::Vector2d(dx[i], dy[i]) - median).norm() <= kStartGatePx
+                     ? 1.0
+                     : 0.0;
+  }
+  return weights;
+}
+
+double BenchRegistration::FitWithinGates(const std::vector<Point>& points,
+                                         bool tag_found,
+                                         std::vector<double>* weights,
+                                         CameraMotion* motion,
+                                         FrameRegistration* out) const {
+  double rms = 0.0;
+  for (const double gate : {kStartGatePx, options_.outlier_px}) {
+    bool tag_kept = true;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const double r = Misfit(*motion, points[i]).norm();
+      (*weights)[i] = r <= gate ? 1.0 : 0.0;
+      if (points[i].tag_corner && (*weights)[i] == 0.0) tag_kept = false;
+    }
+    out->tag_used = tag_found && tag_kept;
+    out->patches_used = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      // The tag counts whole or not at all.
+      if (points[i].tag_corner && !out->tag_used) (*weights)[i] = 0.0;
+      if (!points[i].tag_corner && (*weights)[i] > 0.0) ++out->patches_used;
+    }
+    if (!out->tag_used && out->patches_used < options_.min_patches) break;
+    out->parameters = out->patches_used >= options_.min_patches_for_scale ? 4
+                      : out->patches_used >= options_.min_patches         ? 3
+                                                                          : 2;
+    rms = FitMotion(points, *weights, out->parameters, motion);
+  }
+  return rms;
+}
+
 FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
   FrameRegistration out;
   std::vector<Point> points;
@@ -232,49 +285,12 @@ FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
   // part does not).
   std::vector<double> weights(points.size(), 0.0);
   if (!corners) {
-    std::vector<double> dx, dy;
-    for (const Point& p : points) {
-      const Eigen::Vector2d d = -Misfit(motion, p);
-      dx.push_back(d.x());
-      dy.push_back(d.y());
-    }
-    std::vector<double> sorted_x = dx, sorted_y = dy;
-    std::nth_element(sorted_x.begin(), sorted_x.begin() + dx.size() / 2,
-                     sorted_x.end());
-    std::nth_element(sorted_y.begin(), sorted_y.begin() + dy.size() / 2,
-                     sorted_y.end());
-    const Eigen::Vector2d median(sorted_x[dx.size() / 2],
-                                 sorted_y[dy.size() / 2]);
-    for (size_t i = 0; i < points.size(); ++i) {
-      weights[i] =
-          (Eigen::Vector2d(dx[i], dy[i]) - median).norm() <= kStartGatePx ? 1.0
-                                                                          : 0.0;
-    }
+    weights = MedianMotionWeights(points, motion);
     FitMotion(points, weights, 2, &motion);
   }
-  // Then every point near that motion, and again with the final gate; the
-  // roll and the scale are freed when enough patches pin them.
-  double rms = 0.0;
-  for (const double gate : {kStartGatePx, options_.outlier_px}) {
-    bool tag_kept = true;
-    for (size_t i = 0; i < points.size(); ++i) {
-      const double r = Misfit(motion, points[i]).norm();
-      weights[i] = r <= gate ? 1.0 : 0.0;
-      if (points[i].tag_corner && weights[i] == 0.0) tag_kept = false;
-    }
-    out.tag_used = corners.has_value() && tag_kept;
-    out.patches_used = 0;
-    for (size_t i = 0; i < points.size(); ++i) {
-      // The tag counts whole or not at all.
-      if (points[i].tag_corner && !out.tag_used) weights[i] = 0.0;
-      if (!points[i].tag_corner && weights[i] > 0.0) ++out.patches_used;
-    }
-    if (!out.tag_used && out.patches_used < options_.min_patches) break;
-    out.parameters = out.patches_used >= options_.min_patches_for_scale ? 4
-                     : out.patches_used >= options_.min_patches         ? 3
-                                                                        : 2;
-    rms = FitMotion(points, weights, out.parameters, &motion);
-  }
+  // Then every point near that motion, and again with the final gate.
+  const double rms =
+      FitWithinGates(points, corners.has_value(), &weights, &motion, &out);
   out.residual_px = rms;
   out.motion = motion;
   if (!out.tag_used && out.patches_used < options_.min_patches) {

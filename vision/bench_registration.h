@@ -116,6 +116,18 @@ class BenchRegistration {
                    CameraMotion* motion) const;
   Eigen::Vector2d Predict(const CameraMotion& motion,
                           const Eigen::Vector3d& ray) const;
+  // A robust start without the tag: weight 1 for the points that moved
+  // with the median since `motion` (a bump moves them all alike; a moving
+  // part does not), 0 for the others.
+  std::vector<double> MedianMotionWeights(const std::vector<Point>& points,
+                                          const CameraMotion& motion) const;
+  // Refits `motion` to every point near it, with the start gate and then the
+  // final one, freeing roll and scale when enough patches pin them; fills
+  // `out`'s tag_used, patches_used and parameters and returns the RMS
+  // misfit.
+  double FitWithinGates(const std::vector<Point>& points, bool tag_found,
+                        std::vector<double>* weights, CameraMotion* motion,
+                        FrameRegistration* out) const;
 
   Camera camera_;  // intrinsics only: distortion and projection
   BenchRegistrationOptions options_;

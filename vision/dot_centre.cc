@@ -27,35 +27,28 @@ struct BoxPixel {
   double dx, dy, d2, luma;
 };
 
-// One weighted-centroid step around `c`; false (with a reason) when the
-// window leaves the image or the contrast is too low.
-bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
-                  double radius_px, const DotCentreOptions& options,
-                  DotCentre* out, Eigen::Vector2d* next) {
-  const double window = radius_px + options.window_margin_px;
-  const double outer = window + options.background_width_px;
+// The pixels within `outer` of the centre c, each with its linear luma: the
+// ring outside the window (background) into `ring`, the window itself (the
+// dot) into `inside`.
+void GatherBox(const cv::Mat& luma, const Eigen::Vector2d& c, double window,
+               double outer, const LumaEncoding& encoding,
+               std::vector<BoxPixel>* ring, std::vector<BoxPixel>* inside) {
   const int x0 = static_cast<int>(std::floor(c.x() - outer)),
             x1 = static_cast<int>(std::ceil(c.x() + outer)),
             y0 = static_cast<int>(std::floor(c.y() - outer)),
             y1 = static_cast<int>(std::ceil(c.y() + outer));
-  if (x0 < 0 || y0 < 0 || x1 >= luma.cols || y1 >= luma.rows) {
-    out->why_not = "too close to the image border";
-    return false;
-  }
   // The pixels within `outer` of the centre, gathered once: the ring
   // outside the window (background) and the window itself (the dot).
   // Distances are compared squared; the square root is taken only on the
-  // window's soft edge, where the weight needs it. The buffers live as long
-  // as the thread, so a step allocates nothing.
-  thread_local std::vector<BoxPixel> ring, inside;
-  ring.clear();
-  inside.clear();
+  // window's soft edge, where the weight needs it.
+  ring->clear();
+  inside->clear();
   const double outer_sq = outer * outer, window_sq = window * window;
   const double inside_sq = (window + 0.5) * (window + 0.5);
   WithLumaType(luma, [&](auto type) {
     using T = decltype(type);
     const std::vector<float>& linear =
-        LinearLumaTable(options.luma_encoding, cv::DataType<T>::depth);
+        LinearLumaTable(encoding, cv::DataType<T>::depth);
     for (int y = y0; y <= y1; ++y) {
       const T* row = luma.ptr<T>(y);
       const double dy = y - c.y();
@@ -64,15 +57,23 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
         const double d2 = dx * dx + dy * dy;
         if (d2 > outer_sq) continue;
         const BoxPixel p{dx, dy, d2, linear[row[x]]};
-        if (d2 >= window_sq) ring.push_back(p);
-        if (d2 < inside_sq) inside.push_back(p);
+        if (d2 >= window_sq) ring->push_back(p);
+        if (d2 < inside_sq) inside->push_back(p);
       }
     }
   });
+}
+
+// The background plane L = a + b dx + c dy fitted to the ring and its RMS
+// residual; false when too few pixels are left.
+bool FitBackgroundPlane(const std::vector<BoxPixel>& ring,
+                        Eigen::Vector3d* plane_out, double* noise_out) {
   // Background plane L = a + b dx + c dy on the ring [window, outer], with
   // one pass rejecting outliers (a glint, a neighbouring edge).
-  Eigen::Vector3d plane = Eigen::Vector3d::Zero();
-  double noise = 0.0;
+  Eigen::Vector3d& plane = *plane_out;
+  double& noise = *noise_out;
+  plane.setZero();
+  noise = 0.0;
   for (int pass = 0; pass < 2; ++pass) {
     // Sums of the normal equations in the basis (1, dx, dy).
     double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
@@ -94,16 +95,40 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
       syl += p.dy * p.luma;
       sum_sq += p.luma * p.luma;
     }
-    if (n < 12) {
-      out->why_not = "too few background pixels around the dot";
-      return false;
-    }
+    if (n < 12) return false;
     Eigen::Matrix3d normal;
     normal << n, sx, sy, sx, sxx, sxy, sy, sxy, syy;
     const Eigen::Vector3d rhs(sl, sxl, syl);
     plane = normal.ldlt().solve(rhs);
     // RMS residual of the least-squares fit: sum(L^2) - plane . rhs.
     noise = std::sqrt(std::max(0.0, (sum_sq - plane.dot(rhs)) / (n - 3)));
+  }
+  return true;
+}
+
+// One weighted-centroid step around `c`; false (with a reason) when the
+// window leaves the image or the contrast is too low.
+bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
+                  double radius_px, const DotCentreOptions& options,
+                  DotCentre* out, Eigen::Vector2d* next) {
+  const double window = radius_px + options.window_margin_px;
+  const double outer = window + options.background_width_px;
+  const int x0 = static_cast<int>(std::floor(c.x() - outer)),
+            x1 = static_cast<int>(std::ceil(c.x() + outer)),
+            y0 = static_cast<int>(std::floor(c.y() - outer)),
+            y1 = static_cast<int>(std::ceil(c.y() + outer));
+  if (x0 < 0 || y0 < 0 || x1 >= luma.cols || y1 >= luma.rows) {
+    out->why_not = "too close to the image border";
+    return false;
+  }
+  // The buffers live as long as the thread, so a step allocates nothing.
+  thread_local std::vector<BoxPixel> ring, inside;
+  GatherBox(luma, c, window, outer, options.luma_encoding, &ring, &inside);
+  Eigen::Vector3d plane;
+  double noise = 0.0;
+  if (!FitBackgroundPlane(ring, &plane, &noise)) {
+    out->why_not = "too few background pixels around the dot";
+    return false;
   }
   // Lighting multiplies the dot and the head alike, so the dot's level is a
   // fixed fraction `ratio` of the local background.

@@ -18,8 +18,12 @@
 namespace softbench {
 
 namespace fs = std::filesystem;
-// One flag per line, each with its help: a long list, not a long algorithm.
-void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
+namespace {
+
+// One flag per line, each with its help: long lists, not long algorithms.
+
+// What render reads and writes.
+void AddRenderFileFlags(CLI::App* c, RenderCommandOptions* options) {
   AddPlanOption(c, &options->plan_path);
   AddOutOption(c, &options->output_path,
                "video to write (.mp4, or .mov for QuickTime)")
@@ -28,6 +32,10 @@ void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
       ->required();
   c->add_option("--plan-out", options->plan_out_path,
                 "the plan with the times used (default: VIDEO.plan.yaml)");
+}
+
+// The video's size, codec and quality.
+void AddRenderEncoderFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--resolution", options->resolution, "720p, 1080p, 4k or WxH")
       ->capture_default_str();
   c->add_option("--codec", options->codec, VideoCodecNames())
@@ -44,6 +52,10 @@ void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
       ->capture_default_str();
   c->add_option("--fps", options->fps, "frames per second")
       ->capture_default_str();
+}
+
+// The camera, the scene and the sensor's noise.
+void AddRenderSceneFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--seed", options->render.seed, "noise and texture seed")
       ->capture_default_str();
   c->add_option("--distance-mm", options->render.distance_mm,
@@ -75,7 +87,11 @@ void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
               "add a red air tube distractor");
   c->add_flag("--glint", options->render.glint,
               "add a specular glint on each head");
-  // A phone on a tripod (docs/rendering.md, "Real footage").
+}
+
+// A phone on a tripod (docs/rendering.md, "Real footage"): its motion,
+// exposure and white balance, and what happens at the bench.
+void AddRenderBenchFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--camera-drift-px", options->camera_drift_px,
                 "camera drift dx,dy [px] reached linearly by the video's end, "
                 "e.g. 0.4,0.3");
@@ -100,6 +116,10 @@ void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--drift-period-s", options->conditions.drift_period_s,
                 "period of the exposure wander [s] (white balance: 1.37x)")
       ->capture_default_str();
+}
+
+// The phone's stream: bit depth, chroma, range, HDR, rotation and frame rate.
+void AddRenderPhoneFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--bit-depth", options->bit_depth,
                 "bits per sample: 8, 10 or 12 (12 with hevc)")
       ->capture_default_str();
@@ -121,6 +141,16 @@ void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
                 "fraction of the frame interval (0-0.9), on a 600 Hz clock "
                 "as iPhones write")
       ->capture_default_str();
+}
+
+}  // namespace
+
+void AddRenderCommand(CLI::App* c, RenderCommandOptions* options) {
+  AddRenderFileFlags(c, options);
+  AddRenderEncoderFlags(c, options);
+  AddRenderSceneFlags(c, options);
+  AddRenderBenchFlags(c, options);
+  AddRenderPhoneFlags(c, options);
 }
 
 namespace {
