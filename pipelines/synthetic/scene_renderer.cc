@@ -9,6 +9,7 @@
 
 #include "model/units.h"
 #include "pipelines/formats/dot_colors.h"
+#include "pipelines/synthetic/pixel_grid.h"
 #include "util/input_error.h"
 #include "vision/color_transfer.h"
 #include "vision/tag_bitmap.h"
@@ -104,30 +105,6 @@ std::optional<std::string> RenderOptions::Problem() const {
   if (!(exposure_s >= 0.0)) return "exposure must be >= 0";
   return std::nullopt;
 }
-
-// Pixel coordinates to ideal normalised coordinates. With distortion, the
-// normalised coordinates of every pixel corner are computed once (OpenCV's
-// iterative undistortion, run to convergence) and subsamples interpolate
-// bilinearly inside their pixel: the distortion's curvature over one pixel is
-// below 1e-4 px for |k1| <= 0.3 at 4K.
-struct PixelGrid {
-  double fx, fy, cx, cy;
-  int width = 0;
-  std::vector<Eigen::Vector2d> corners;  // (height + 1) x (width + 1)
-
-  Eigen::Vector2d At(double u, double v) const {
-    if (corners.empty()) return {(u - cx) / fx, (v - cy) / fy};
-    const double gx = u + 0.5, gy = v + 0.5;
-    const int i = std::clamp(static_cast<int>(std::floor(gx)), 0, width - 1);
-    const int rows = static_cast<int>(corners.size()) / (width + 1) - 1;
-    const int j = std::clamp(static_cast<int>(std::floor(gy)), 0, rows - 1);
-    const double a = gx - i, b = gy - j;
-    const Eigen::Vector2d* row0 = &corners[j * (width + 1) + i];
-    const Eigen::Vector2d* row1 = row0 + width + 1;
-    return (1 - b) * ((1 - a) * row0[0] + a * row0[1]) +
-           b * ((1 - a) * row1[0] + a * row1[1]);
-  }
-};
 
 namespace {
 
@@ -519,112 +496,6 @@ void SceneRenderer::DrawTube(cv::Mat* image) const {
         },
         image);
   }
-}
-
-cv::Mat SceneRenderer::RenderLinear(
-    const std::vector<Eigen::VectorXd>& displacement_samples,
-    bool tag_visible) const {
-  const cv::Mat& background =
-      tag_visible ? background_ : background_without_tag_;
-  if (displacement_samples.size() == 1) {
-    cv::Mat image = background.clone();
-    DrawMoving(displacement_samples[0], &image);
-    return image;
-  }
-  cv::Mat sum = cv::Mat::zeros(background_.size(), CV_32FC3), image;
-  for (const Eigen::VectorXd& sample : displacement_samples) {
-    background.copyTo(image);
-    DrawMoving(sample, &image);
-    sum += image;
-  }
-  return sum / static_cast<double>(displacement_samples.size());
-}
-
-cv::Mat SceneRenderer::Moved(const cv::Mat& linear,
-                             const CameraMotion& motion) const {
-  // Each pixel of the moved camera looks along a ray that the still camera
-  // saw at (distorted) pixel Distort(H^-1 n): sample the still frame there.
-  // Bilinear in float, not cv::remap, whose coordinates are fixed-point
-  // (1/32 px) and would quantise sub-pixel motion.
-  const Eigen::Matrix3d reference_from_current =
-      motion.CurrentFromReference().inverse();
-  const PixelGrid& grid = *pixels_;
-  cv::Mat moved(linear.size(), CV_32FC3);
-  cv::parallel_for_(cv::Range(0, linear.rows), [&](const cv::Range& rows) {
-    for (int v = rows.start; v < rows.end; ++v) {
-      auto* out = moved.ptr<cv::Vec3f>(v);
-      for (int u = 0; u < linear.cols; ++u) {
-        const Eigen::Vector3d n =
-            reference_from_current * grid.At(u, v).homogeneous();
-        const Eigen::Vector2d src = camera_.Distort(n.head<2>() / n.z());
-        const double x = std::clamp(src.x(), 0.0, linear.cols - 1.0);
-        const double y = std::clamp(src.y(), 0.0, linear.rows - 1.0);
-        const int x0 = std::min(static_cast<int>(x), linear.cols - 2);
-        const int y0 = std::min(static_cast<int>(y), linear.rows - 2);
-        const float a = static_cast<float>(x - x0),
-                    b = static_cast<float>(y - y0);
-        const auto* r0 = linear.ptr<cv::Vec3f>(y0) + x0;
-        const auto* r1 = linear.ptr<cv::Vec3f>(y0 + 1) + x0;
-        out[u] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
-                 b * ((1 - a) * r1[0] + a * r1[1]);
-      }
-    }
-  });
-  return moved;
-}
-
-cv::Mat SceneRenderer::Render(
-    const std::vector<Eigen::VectorXd>& displacement_samples,
-    int64_t frame_index, const FrameConditions& conditions) const {
-  cv::Mat linear = RenderLinear(displacement_samples, conditions.tag_visible);
-  if (conditions.motion.rotation_rad != Eigen::Vector3d::Zero() ||
-      conditions.motion.scale != 1.0) {
-    linear = Moved(linear, conditions.motion);
-  }
-  const cv::Vec3f exposure =
-      conditions.channel_gain * static_cast<float>(conditions.brightness);
-  static const CodeFromLinearTable kBt709Table(Transfer::kSdr);
-  cv::Mat out(linear.size(), options_.sixteen_bit ? CV_16UC3 : CV_8UC3);
-  // Fixed stripes, each with its own seeded generator: the same frame for any
-  // number of threads.
-  constexpr int kStripes = 32;
-  cv::parallel_for_(cv::Range(0, kStripes), [&](const cv::Range& range) {
-    for (int s = range.start; s < range.end; ++s) {
-      const int begin = linear.rows * s / kStripes;
-      const int end = linear.rows * (s + 1) / kStripes;
-      cv::RNG rng(options_.seed * 0x9E3779B97F4A7C15ULL +
-                  static_cast<uint64_t>(frame_index) * kStripes + s + 1);
-      cv::Mat noise(end - begin, linear.cols, CV_32FC3);
-      rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
-      for (int v = begin; v < end; ++v) {
-        const auto* in = linear.ptr<cv::Vec3f>(v);
-        const auto* g = gain_.ptr<float>(v);
-        const auto* n = noise.ptr<cv::Vec3f>(v - begin);
-        auto* o8 = out.ptr<cv::Vec3b>(v);
-        auto* o16 = out.ptr<cv::Vec3w>(v);
-        for (int u = 0; u < linear.cols; ++u) {
-          for (int c = 0; c < 3; ++c) {
-            const float light = in[u][c] * g[u] * exposure[c];
-            // The camera's BT.709 curve, then noise in codes.
-            const float signal =
-                kBt709Table(light / 255.0f) * (255.0f / 65535.0f);
-            const float sigma =
-                std::sqrt(static_cast<float>(options_.noise_sigma_dn *
-                                             options_.noise_sigma_dn) +
-                          static_cast<float>(options_.shot_noise_dn) *
-                              std::max(signal, 0.0f));
-            const float level = signal + sigma * n[u][c];
-            if (options_.sixteen_bit) {
-              o16[u][c] = cv::saturate_cast<uint16_t>(level * 257.0f);
-            } else {
-              o8[u][c] = cv::saturate_cast<uint8_t>(level);
-            }
-          }
-        }
-      }
-    }
-  });
-  return out;
 }
 
 }  // namespace softbench
