@@ -1,0 +1,152 @@
+#ifndef SOFTBENCH_VISION_VIDEO_READER_STATE_H_
+#define SOFTBENCH_VISION_VIDEO_READER_STATE_H_
+
+// VideoReader's insides, shared by its three files: probing the file
+// (video_reader_probe.cc), decoding and seeking (video_reader.cc) and
+// converting frames (video_reader_convert.cc). Not for other code.
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libswscale/swscale.h>
+}
+
+#include "vision/color_transfer.h"
+#include "vision/video_reader.h"
+
+namespace softbench {
+
+struct VideoReader::State {
+  std::string path;
+  VideoReaderOptions options;
+  VideoInfo info;
+  AVFormatContext* format = nullptr;
+  AVCodecContext* codec = nullptr;
+  AVPacket* packet = nullptr;
+  AVFrame* frame = nullptr;
+  SwsContext* sws = nullptr;
+  SwsContext* region_sws = nullptr;   // cached for the last region size
+  SwsContext* reduced_sws = nullptr;  // the same for reduced regions
+  int stream = -1;
+  AVRational time_base{1, 1};
+  int64_t start_pts = 0;
+  // Every frame's timestamp in presentation order (empty when the
+  // container has none): frames are numbered by their place in it.
+  std::vector<int64_t> frame_pts;
+  const AVPixFmtDescriptor* desc = nullptr;
+  // Luma of deeper video: samples shifted left by this fill 16 bits.
+  int luma_shift = 0;
+  cv::Mat luma_upright;  // reused: rotated or shifted luma
+  // Colour of anything but SDR BT.709 goes through SDR (color_transfer.h).
+  std::optional<SdrConverter> to_sdr;
+  std::optional<double> hdr_white;  // HdrWhite(), once measured
+  int64_t last_good_index = -1;     // for truncation messages
+  // The frame Read() or SeekTo() returned last (-1 after a seek starts):
+  // frames the container lists between it and the next are lost.
+  int64_t last_returned_index = -1;
+  // Set by a seek: the frames skipped to get there are not lost. Before any
+  // seek, frames the container lists before the first one decoded are (a
+  // damaged key frame at the start).
+  bool seeked = false;
+  // The picture size the stream's header declares (as stored, before the
+  // display rotation): every decoded frame must have it.
+  int header_width = 0, header_height = 0;
+  std::vector<VideoReader::DamagedFrame> damaged;
+  bool tainted = false;  // damaged data since the last key frame
+  double last_good_time = 0.0;
+  int64_t last_good_pts = AV_NOPTS_VALUE;
+  // While seeking: packets presented before this are decoded only when
+  // other frames refer to them (non-reference frames are skipped, exactly).
+  int64_t discard_before_pts = INT64_MIN;
+  bool flushing = false;
+  bool finished = false;
+
+  // Opens the file and its decoder: a folder, a device, an empty file, a
+  // file FFmpeg cannot read and an absurd picture size are refused by name.
+  void Open();
+
+  // The stream's codec, frame rate, length, rotation and upright size.
+  void ReadStreamInfo();
+
+  // The pixel format, checked here so an unreadable video is refused by
+  // name before any measurement starts.
+  void CheckPixelFormat();
+
+  // Every frame's time (from the timestamps, else the constant rate), and
+  // whether the rate varies.
+  void ReadFrameTimes();
+
+  ~State();
+
+  [[noreturn]] void Fail(const std::string& what) const;
+
+  // Every way the data can run out or break says the same: where, of how
+  // many, and what to do.
+  [[noreturn]] void FailBroken(const std::string& detail) const;
+
+  // Decodes one frame into `frame`; false at a clean end of stream.
+  bool DecodeNext();
+
+  // Whether the frame about to be returned shows damaged data: the decoder
+  // reported errors in it, or in a frame since the last key frame (errors
+  // propagate through the frames predicted from a concealed one, and the
+  // decoder does not flag those).
+  bool FrameDamaged() const { return tainted; }
+
+  // Records the frame about to be returned: the frames the container lists
+  // before it since the last one returned are lost, and it is damaged if
+  // the decoder says so or if it is predicted from damaged data.
+  void NoteReturned();
+
+  double FrameTime() const;
+
+  // Decodes the next frame and checks that the stream did not end early.
+  bool Next();
+
+  int64_t IndexOf(int64_t pts, double time_s) const;
+
+  // A stream may change format mid-way; what was checked at open must hold.
+  void CheckFormat() const;
+
+  // The full-precision luma of the decoded frame, upright (see
+  // VideoFrame::luma): a view of the plane for unrotated 8-bit and 16-bit
+  // video, else turned (OpenCV's tiled transpose) and shifted to 16 bits.
+  cv::Mat Luma();
+
+  // Back to the first frame, as if just opened.
+  void Rewind();
+
+  // Every frame's timestamp, from the packets (no decoding). Stops quietly
+  // at damaged data: reading reports it where the frames run out.
+  void ScanFrameTimes();
+
+  // The level HDR footage shows as SDR white: BT.2408's reference white, or
+  // the brightest 1 % of the first frame's luma when that is clearly (1.5
+  // times) brighter, so footage graded with its white at the top of the
+  // range is not clipped. One value for the whole video, from frame 0.
+  double HdrWhiteOf(const cv::Mat& first_luma) const;
+
+  // The HDR white, measured when this reader decoded frame 0 (a reader that
+  // starts at the beginning: the video is opened once); else frame 0 is
+  // read by a reader of its own, so this one's position is kept.
+  double HdrWhite();
+
+  void Convert(VideoFrame* out);
+
+  // Converts a w x h picture (planes `data`) with `*context` to BGR of
+  // dst_size (the picture's own size when empty), averaging areas when it
+  // reduces.
+  cv::Mat ConvertBgr(SwsContext** context, const uint8_t* const* data,
+                     const int* linesize, int w, int h, cv::Size dst_size = {});
+
+  // Applies the rotation metadata (clockwise degrees) like ffmpeg's autorotate.
+  void Rotate(const cv::Mat& in, cv::Mat* out) const;
+};
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_VIDEO_READER_STATE_H_
