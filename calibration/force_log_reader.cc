@@ -244,6 +244,36 @@ void ReadForceTestCsv(const std::string& path, const ForceLogColumns& columns,
   summary->Merge(file_summary);
 }
 
+// A combined log's new test, from its first row: its id and configuration
+// (`columns`: nominal dL, nominal theta, then the measured ones or -1),
+// refused when no clamp can hold it.
+ForceTest TestOfRow(LogRowParser* parser, const std::vector<int>& columns,
+                    const std::string& path) {
+  const CsvReader& reader = parser->reader();
+  const auto number = [&](int column) {
+    const std::string_view field = parser->fields()[column];
+    const std::optional<double> value = ParseDouble(field);
+    if (!value || !std::isfinite(*value)) {
+      throw InputError(fmt::format("{}{} '{}' is not a finite number",
+                                   reader.Where(), reader.header()[column],
+                                   field));
+    }
+    return *value;
+  };
+  ForceTest test;
+  test.id = parser->fields()[reader.ColumnIndex("test_id")];
+  test.source = path;
+  test.nominal_delta_length_mm = number(columns[0]);
+  test.nominal_theta_rad = DegToRad(number(columns[1]));
+  if (columns[2] >= 0) test.measured_delta_length_mm = number(columns[2]);
+  if (columns[3] >= 0) test.measured_theta_rad = DegToRad(number(columns[3]));
+  if (const auto problem = ImplausibleTest(test)) {
+    throw InputError(
+        fmt::format("{}test '{}': {}", reader.Where(), test.id, *problem));
+  }
+  return test;
+}
+
 std::vector<ForceTest> ReadCombinedForceLog(const std::string& path,
                                             const ForceLogColumns& columns,
                                             const ForceLogReadOptions& options,
@@ -271,15 +301,6 @@ std::vector<ForceTest> ReadCombinedForceLog(const std::string& path,
   const std::vector<int> configuration_columns = {length_column, theta_column,
                                                   measured_length_column,
                                                   measured_theta_column};
-  const auto configuration_number = [&](int column, std::string_view name) {
-    const std::optional<double> value = ParseDouble(parser.fields()[column]);
-    if (!value || !std::isfinite(*value)) {
-      throw InputError(fmt::format("{}{} '{}' is not a finite number",
-                                   reader.Where(), name,
-                                   parser.fields()[column]));
-    }
-    return *value;
-  };
   const auto finish = [&] {
     if (!accumulator) return;
     ForceTest& test = tests.back();
@@ -298,25 +319,7 @@ std::vector<ForceTest> ReadCombinedForceLog(const std::string& path,
             "rows together",
             reader.Where(), id));
       }
-      ForceTest& test = tests.emplace_back();
-      test.id = id;
-      test.source = path;
-      test.nominal_delta_length_mm =
-          configuration_number(length_column, "delta_length_mm");
-      test.nominal_theta_rad =
-          DegToRad(configuration_number(theta_column, "theta_deg"));
-      if (measured_length_column >= 0) {
-        test.measured_delta_length_mm = configuration_number(
-            measured_length_column, "measured_delta_length_mm");
-      }
-      if (measured_theta_column >= 0) {
-        test.measured_theta_rad = DegToRad(
-            configuration_number(measured_theta_column, "measured_theta_deg"));
-      }
-      if (const auto problem = ImplausibleTest(test)) {
-        throw InputError(
-            fmt::format("{}test '{}': {}", reader.Where(), id, *problem));
-      }
+      tests.push_back(TestOfRow(&parser, configuration_columns, path));
       configuration_text.clear();
       for (int column : configuration_columns) {
         configuration_text.emplace_back(column >= 0 ? parser.fields()[column]
