@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "util/check.h"
+#include "util/statistics.h"
 #include "vision/frame_source.h"
 
 namespace softbench {
@@ -200,13 +201,7 @@ std::vector<double> BenchRegistration::MedianMotionWeights(
     dx.push_back(d.x());
     dy.push_back(d.y());
   }
-  std::vector<double> sorted_x = dx, sorted_y = dy;
-  std::nth_element(sorted_x.begin(), sorted_x.begin() + dx.size() / 2,
-                   sorted_x.end());
-  std::nth_element(sorted_y.begin(), sorted_y.begin() + dy.size() / 2,
-                   sorted_y.end());
-  const Eigen::Vector2d median(sorted_x[dx.size() / 2],
-                               sorted_y[dy.size() / 2]);
+  const Eigen::Vector2d median(Median(dx), Median(dy));
   std::vector<double> weights(points.size(), 0.0);
   for (size_t i = 0; i < points.size(); ++i) {
     weights[i] = (Eigen::Vector2d(dx[i], dy[i]) - median).norm() <= kStartGatePx
