@@ -18,8 +18,8 @@ inline constexpr double kOutlierViewFactor = 2.0;
 std::vector<std::string> OutlierViews(const BoardViews& views,
                                       const CameraCalibration& calibration);
 
-// How much of the image the boards covered: the fraction of the cells of a
-// 8 x 6 grid over the image that some board's outline reaches (a fit from
+// How much of the image the boards covered: the fraction of the cells of an
+// 8 x 6 grid over the image that some board's corner lies in (a fit from
 // boards in the middle only extrapolates the distortion to the corners).
 double BoardCoverage(const BoardViews& views);
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 
-#include "model/equilibrium.h"
 #include "pipelines/validation/validation.h"
+#include "tests/support/held_measurement.h"
 
 namespace softbench {
 namespace {
@@ -25,39 +25,10 @@ TestPlan OneTestPlan(const std::string& pressures) {
       "plan.yaml");
 }
 
-// Frames at 30 fps up to `end_s`: the head at the model's prediction during
-// the hold, at rest before it, and `after_release_mm` along y after it (a
-// head still on its way back, or one that slipped).
-VideoMeasurement Measurement(const TestPlan& plan, double end_s,
-                             double after_release_mm) {
-  const EquilibriumProblem problem(plan.mechanism, plan.force_model);
-  EquilibriumSolver solver(problem);
-  Eigen::VectorXd held = Eigen::VectorXd::Zero(problem.NumUnknowns());
-  solver.Solve(plan.tests[0].pressures * plan.mpa_per_unit, &held);
-  VideoMeasurement m;
-  m.fps = 30.0;
-  m.frame_interval_s = 1.0 / 30.0;
-  for (int i = 0; i / 30.0 <= end_s; ++i) {
-    FrameSample& frame = m.frames.emplace_back();
-    frame.frame = i;
-    frame.time_s = i / 30.0;
-    HeadSample& head = frame.heads.emplace_back();
-    head.observation.complete = true;
-    head.observation.dots_found = 3;
-    head.displacement_mm = frame.time_s < 2.0 ? Eigen::Vector2d::Zero()
-                           : frame.time_s < 5.0
-                               ? Eigen::Vector2d(held.head<2>())
-                               : Eigen::Vector2d(after_release_mm, 0.0);
-    head.binary_displacement_mm = head.displacement_mm;
-    m.last_frame_s = frame.time_s;
-  }
-  return m;
-}
-
 TEST(ScoreTests, FlagsHysteresisOnASettledFinalWindow) {
   const TestPlan plan = OneTestPlan("6, 6, 0");
   const ValidationResult result =
-      ScoreTests(plan, Measurement(plan, 9.0, 0.3), ValidationOptions());
+      ScoreTests(plan, HeldMeasurement(plan, 9.0, 0.3), ValidationOptions());
   EXPECT_EQ(result.tests[0].status, "hysteresis");
   EXPECT_TRUE(result.tests[0].heads[0].hysteresis_judged);
   EXPECT_EQ(result.hysteresis_flagged, std::vector<std::string>{"t1"});
@@ -69,7 +40,7 @@ TEST(ScoreTests, FlagsHysteresisOnASettledFinalWindow) {
 TEST(ScoreTests, DoesNotJudgeHysteresisWhenTheVideoEndsBeforeTheHeadSettles) {
   const TestPlan plan = OneTestPlan("6, 6, 0");
   const ValidationResult result =
-      ScoreTests(plan, Measurement(plan, 6.2, 0.3), ValidationOptions());
+      ScoreTests(plan, HeldMeasurement(plan, 6.2, 0.3), ValidationOptions());
   const TestScore& t = result.tests[0];
   EXPECT_EQ(t.status, "ok");
   EXPECT_FALSE(t.heads[0].hysteresis_judged);
@@ -83,14 +54,14 @@ TEST(ScoreTests, DoesNotJudgeHysteresisWhenTheVideoEndsBeforeTheHeadSettles) {
 // beyond it the model's head is somewhere no bench pressure puts it.
 TEST(ScoreTests, MarksAPredictionBeyondTheMechanismsReach) {
   const TestPlan in_range = OneTestPlan("6, 6, 0");
-  EXPECT_EQ(
-      ScoreTests(in_range, Measurement(in_range, 9.0, 0.0), ValidationOptions())
-          .tests[0]
-          .beyond_reach,
-      "");
+  EXPECT_EQ(ScoreTests(in_range, HeldMeasurement(in_range, 9.0, 0.0),
+                       ValidationOptions())
+                .tests[0]
+                .beyond_reach,
+            "");
   const TestPlan beyond = OneTestPlan("60, 0, 0");
-  const ValidationResult result =
-      ScoreTests(beyond, Measurement(beyond, 9.0, 0.0), ValidationOptions());
+  const ValidationResult result = ScoreTests(
+      beyond, HeldMeasurement(beyond, 9.0, 0.0), ValidationOptions());
   EXPECT_NE(result.tests[0].beyond_reach.find("beyond where pressures up to "
                                               "the characterised 6 psi reach"),
             std::string::npos)
@@ -106,7 +77,7 @@ TEST(ScoreTests, MarksAPredictionBeyondTheMechanismsReach) {
 // test is "no prediction", not "ok" with empty model columns.
 TEST(ScoreTests, NeverCallsATestOkWithoutAPrediction) {
   TestPlan plan = OneTestPlan("6, 6, 0");
-  const VideoMeasurement m = Measurement(plan, 9.0, 0.0);
+  const VideoMeasurement m = HeldMeasurement(plan, 9.0, 0.0);
   plan.tests[0].pressures = Eigen::Vector3d(1e300, 0, 0);  // past any parser
   const ValidationResult result = ScoreTests(plan, m, ValidationOptions());
   const TestScore& t = result.tests[0];

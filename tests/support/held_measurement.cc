@@ -1,0 +1,60 @@
+#include "tests/support/held_measurement.h"
+
+#include <vector>
+
+#include "model/equilibrium.h"
+#include "util/check.h"
+
+namespace softbench {
+
+VideoMeasurement HeldMeasurement(const TestPlan& plan, double end_s,
+                                 double after_release_mm) {
+  const EquilibriumProblem problem(plan.mechanism, plan.force_model);
+  EquilibriumSolver solver(problem);
+  std::vector<Eigen::VectorXd> held;
+  for (const TestPoint& t : plan.tests) {
+    SOFTBENCH_CHECK(t.actuate_s && t.release_s);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(problem.NumUnknowns());
+    solver.Solve(t.pressures * plan.mpa_per_unit, &x);
+    held.push_back(x);
+  }
+  VideoMeasurement m;
+  m.video_path = "held.mp4";
+  m.scale_source = "mm_per_px";
+  m.mm_per_px = plan.calibration.mm_per_px.value_or(0.1);
+  m.mapping = PlaneMapping::FromScale(CameraIntrinsics(), m.mm_per_px, 0.0);
+  m.rest_mm.assign(plan.mechanism.NumHeads(), Eigen::Vector2d::Zero());
+  m.fps = 30.0;
+  m.frame_interval_s = 1.0 / 30.0;
+  m.registration = "none (the camera taken to be still)";
+  for (int i = 0; i / 30.0 <= end_s; ++i) {
+    FrameSample& frame = m.frames.emplace_back();
+    frame.frame = i;
+    frame.time_s = i / 30.0;
+    // The last test actuated by now, if any, and whether it still holds.
+    int test = -1;
+    for (size_t k = 0; k < plan.tests.size(); ++k) {
+      if (*plan.tests[k].actuate_s <= frame.time_s) test = static_cast<int>(k);
+    }
+    const bool holding =
+        test >= 0 && frame.time_s < *plan.tests[test].release_s;
+    for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
+      HeadSample& head = frame.heads.emplace_back();
+      head.displacement_mm = test < 0 ? Eigen::Vector2d::Zero()
+                             : holding
+                                 ? Eigen::Vector2d(held[test].segment<2>(2 * h))
+                                 : Eigen::Vector2d(after_release_mm, 0.0);
+      head.binary_displacement_mm = head.displacement_mm;
+      HeadObservation& o = head.observation;
+      o.complete = true;
+      o.dots_found = 3;
+      o.position_mm = m.rest_mm[h] + head.displacement_mm;
+      o.binary_position_mm = o.position_mm;
+      o.pixel = m.mapping->ToPixel(o.position_mm);
+    }
+    m.last_frame_s = frame.time_s;
+  }
+  return m;
+}
+
+}  // namespace softbench
