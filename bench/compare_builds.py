@@ -111,7 +111,16 @@ def main():
     if args.rounds < 1:
         sys.exit("--rounds must be at least 1")
     builds = {"old": os.path.abspath(args.old), "new": os.path.abspath(args.new)}
+    for which, build in builds.items():
+        for binary in ("softbench", "bench/model_benchmark",
+                       "bench/video_benchmark"):
+            if not os.access(os.path.join(build, binary), os.X_OK):
+                sys.exit(f"{build}: no {binary} in this {which} build; build "
+                         "it there (cmake --build BUILD --target softbench "
+                         "video_benchmark fit_benchmark model_benchmark)")
     workloads = [w for w in WORKLOADS if args.only in w[0]]
+    if not workloads:
+        sys.exit(f"--only {args.only!r}: no workload's name contains it")
     if any(name.startswith("fit") for name, _ in workloads) and \
             not os.path.exists(os.path.join(LOGS, "manifest.yaml")):
         print(f"writing the 24 M-row force logs to {LOGS} ...", file=sys.stderr)
