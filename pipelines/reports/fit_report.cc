@@ -18,10 +18,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string Fixed(double value, int digits) {
-  return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : "-";
-}
-
 // The fitted constants with standard errors and the goodness of fit of
 // every model (thesis Table 3.2's terms).
 void AddConstantsTable(const FitRun& run, HtmlReport* report) {
@@ -41,7 +37,7 @@ void AddConstantsTable(const FitRun& run, HtmlReport* report) {
                         : fmt::format("{:.4g}", values[i]));
     }
     for (const DirectionFit& d : fit.directions) {
-      row.push_back(Fixed(d.r_squared, 4));
+      row.push_back(FormatFixed(d.r_squared, 4, "-"));
       row.push_back(fmt::format("{:.3f} ({:.2f} % of {:.2f})", d.rmse_n,
                                 d.rmse_percent_of_range, d.full_scale_range_n));
     }
@@ -60,11 +56,15 @@ void AddConfigurationTable(const FitRun& run, HtmlReport* report) {
   for (const ConfigurationAnalysis& c : run.configurations) {
     table.push_back(
         {ConfigurationName(c.nominal_delta_length_mm, c.nominal_theta_rad),
-         std::to_string(c.tests.size()), Fixed(c.static_offset_n[0], 3),
-         Fixed(c.static_offset_n[1], 3), Fixed(c.axial_area_mm2, 1),
-         Fixed(c.shear_area_mm2, 1), Fixed(c.hysteresis_max_n[0], 3),
-         Fixed(c.hysteresis_max_n[1], 3), Fixed(c.hysteresis_mean_n[0], 3),
-         Fixed(c.hysteresis_mean_n[1], 3)});
+         std::to_string(c.tests.size()),
+         FormatFixed(c.static_offset_n[0], 3, "-"),
+         FormatFixed(c.static_offset_n[1], 3, "-"),
+         FormatFixed(c.axial_area_mm2, 1, "-"),
+         FormatFixed(c.shear_area_mm2, 1, "-"),
+         FormatFixed(c.hysteresis_max_n[0], 3, "-"),
+         FormatFixed(c.hysteresis_max_n[1], 3, "-"),
+         FormatFixed(c.hysteresis_mean_n[0], 3, "-"),
+         FormatFixed(c.hysteresis_mean_n[1], 3, "-")});
   }
   report->AddTable({"configuration", "tests", "static axial [N]",
                     "static shear [N]", "A_z,eff [mm²]", "A_y,eff [mm²]",

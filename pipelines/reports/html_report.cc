@@ -54,6 +54,11 @@ std::string EscapeSlashAfter(std::string text, std::string_view pattern) {
 
 std::string HtmlEscape(const std::string& text) { return Escape(text); }
 
+std::string FormatFixed(double value, int decimals, std::string_view missing) {
+  return std::isfinite(value) ? fmt::format("{:.{}f}", value, decimals)
+                              : std::string(missing);
+}
+
 std::string ReportAssetsDirectory() {
   if (const char* assets = std::getenv("SOFTBENCH_REPORT_ASSETS")) {
     return assets;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace softbench {
@@ -56,6 +57,11 @@ class HtmlReport {
 
 // `text` made safe as HTML text or an attribute value.
 std::string HtmlEscape(const std::string& text);
+
+// A number with `decimals` decimals for a report's tables and CSVs; NaN and
+// inf (no value: a statistic of nothing) become `missing`, never "nan".
+std::string FormatFixed(double value, int decimals,
+                        std::string_view missing = "");
 
 // A number for a report's JSON: NaN and inf (not representable) become null.
 inline nlohmann::json JsonNumber(double value) {

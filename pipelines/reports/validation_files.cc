@@ -4,7 +4,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <numbers>
 
@@ -270,28 +269,20 @@ void WriteValidationIndex(const std::vector<VideoValidation>& videos,
     for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
       const std::string flagged =
           fmt::format("{}", fmt::join(r.hysteresis_flagged, " "));
-      // A head with no scored test has no statistics: empty cells, not
-      // "nan".
-      const auto number = [](double value, int decimals) {
-        return std::isfinite(value) ? fmt::format("{:.{}f}", value, decimals)
-                                    : std::string();
-      };
       csv += fmt::format(
           "{},{},{},{},{},{},{},{},{}\n", CsvField(v.measurement.video_path),
           CsvField(names[i] + "/report.html"),
           CsvField(v.plan.mechanism.heads[h].name), r.model_errors[h].tests,
-          number(r.model_errors[h].mean_mm, 5),
-          number(r.model_errors[h].max_mm, 5),
-          number(r.baseline_errors[h].mean_mm, 5),
-          number(r.improvement_percent[h], 1), CsvField(flagged));
+          FormatFixed(r.model_errors[h].mean_mm, 5),
+          FormatFixed(r.model_errors[h].max_mm, 5),
+          FormatFixed(r.baseline_errors[h].mean_mm, 5),
+          FormatFixed(r.improvement_percent[h], 1), CsvField(flagged));
       rows.push_back({names[i], v.plan.mechanism.heads[h].name,
                       std::to_string(r.model_errors[h].tests),
                       FormatMm(r.model_errors[h].mean_mm),
                       FormatMm(r.model_errors[h].max_mm),
                       FormatMm(r.baseline_errors[h].mean_mm),
-                      std::isfinite(r.improvement_percent[h])
-                          ? fmt::format("{:.0f} %", r.improvement_percent[h])
-                          : std::string(),
+                      FormatPercent(r.improvement_percent[h]),
                       flagged.empty() ? "none" : flagged});
     }
   }

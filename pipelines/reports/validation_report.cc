@@ -118,8 +118,10 @@ void AddCrops(const TestPlan& plan, const VideoMeasurement& m,
 
 }  // namespace
 
-std::string FormatMm(double value) {
-  return std::isfinite(value) ? fmt::format("{:.4f}", value) : "";
+std::string FormatMm(double value) { return FormatFixed(value, 4); }
+
+std::string FormatPercent(double value) {
+  return std::isfinite(value) ? fmt::format("{:.0f} %", value) : "";
 }
 
 namespace {
@@ -139,9 +141,7 @@ void AddSummary(const TestPlan& plan, const ValidationResult& r,
     rows.push_back({plan.mechanism.heads[h].name, std::to_string(a.tests),
                     FormatMm(a.mean_mm), FormatMm(a.max_mm), FormatMm(a.rms_mm),
                     FormatMm(b.mean_mm), FormatMm(b.max_mm), FormatMm(b.rms_mm),
-                    std::isfinite(r.improvement_percent[h])
-                        ? fmt::format("{:.0f} %", r.improvement_percent[h])
-                        : std::string(),
+                    FormatPercent(r.improvement_percent[h]),
                     uncertainties.empty()
                         ? std::string()
                         : FormatMm(*std::max_element(uncertainties.begin(),

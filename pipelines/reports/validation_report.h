@@ -9,6 +9,8 @@ namespace softbench {
 
 // Millimetres as the report files write them (4 decimals; empty for NaN).
 std::string FormatMm(double value);
+// A percentage as the report pages show it ("12 %"; empty for NaN).
+std::string FormatPercent(double value);
 
 // The files written beside report.html, which it links to.
 inline constexpr const char* kValidationFiles[] = {
