@@ -22,108 +22,286 @@ std::optional<std::string> TagDetectorOptions::Problem() const {
 
 namespace {
 
-// The straight outer edge from corner a to corner b (black inside, white
-// outside), located along it at sub-pixel accuracy. At each point the edge's
-// offset along the normal comes from the integral of the profile across it:
+// Cells across tag36h11's black border (libapriltag's width_at_border): the
+// border is one cell wide, and the six cells inside each side carry data.
+constexpr int kCellsAcrossBorder = 8;
+// Fits of the border per detection, each from the last one's corners.
+constexpr int kMaxBorderFits = 4;
+
+// Where an edge crosses the profile from p - d normal (dark) to p + d normal
+// (bright), from the profile's integral:
 //   offset = d - integral_{-d}^{d} (p(s) - black) ds / (white - black),
 // which a symmetric blur (the lens, the pixel's area sampling,
 // interpolation) does not change, unlike a threshold crossing. The profile
-// is taken in linear light (options.luma_encoding): the blur mixes light,
-// and integrated in codes a camera's transfer curve moves every edge toward
-// the ink by a tenth of a pixel or so, shrinking the tag by ~0.35 %.
-// Returns false when too few points had
-// clean levels; `fit` (optional) receives how many of the points sampled
-// were clean and the RMS distance of the edge points from the line.
-struct EdgeFit {
-  int sampled = 0, clean = 0;
-  double rms_px = 0.0;
-};
+// is taken in linear light (options.luma_encoding), as the lens mixes
+// light. nullopt when its ends are not clean dark and bright levels.
 template <typename T>
-bool FitEdgeOf(const cv::Mat& gray, const Eigen::Vector2d& a,
-               const Eigen::Vector2d& b, const TagDetectorOptions& options,
-               cv::Vec4f* line, EdgeFit* fit = nullptr) {
-  const Eigen::Vector2d along = (b - a).normalized();
-  // Outward normal: libapriltag's corners run counter-clockwise as seen on
-  // screen, so with y down outward is (-along_y, along_x).
-  const Eigen::Vector2d normal(-along.y(), along.x());
-  const double d = options.edge_half_width_px, step = 0.25;
-  const double length = (b - a).norm();
-  std::vector<cv::Point2f> points;
-  // One buffer for every profile: this runs for every frame's tag.
-  std::vector<double> profile;
-  profile.reserve(static_cast<size_t>(2 * d / step) + 2);
-  const std::vector<float>& linear =
-      LinearLumaTable(options.luma_encoding, cv::DataType<T>::depth);
-  int sampled = 0;
-  // Profiles every half pixel along the middle 60 % of the edge, at most
-  // 160 (a 1080p tag's; a 4K tag's edge gets them a pixel apart, the same
-  // spacing in millimetres): this runs for every frame.
-  const double spacing = std::max(0.5, 0.6 * length / 160.0);
-  for (double t = 0.2 * length; t <= 0.8 * length; t += spacing, ++sampled) {
-    const Eigen::Vector2d p = a + t * along;
-    profile.clear();
-    for (double s = -d; s <= d + 1e-9; s += step) {
-      const Eigen::Vector2d q = p + s * normal;
-      profile.push_back(SampleLinearLuma<T>(gray, linear, q.x(), q.y()));
-    }
-    if (*std::min_element(profile.begin(), profile.end()) < 0) continue;
-    // The contrast is judged in codes (40 levels of 255), as a person sees
-    // it, so dim footage is refined as before.
-    const Eigen::Vector2d inside = p - d * normal, outside = p + d * normal;
-    if (SampleLuma<T>(gray, outside.x(), outside.y()) -
-            SampleLuma<T>(gray, inside.x(), inside.y()) <
-        40.0) {
-      continue;
-    }
-    const int end = static_cast<int>(profile.size()) - 1;
-    const int flat = static_cast<int>(1.0 / step);  // 1 px at each end
-    double black = 0, white = 0;
-    for (int i = 0; i <= flat; ++i) {
-      black += profile[i] / (flat + 1);
-      white += profile[end - i] / (flat + 1);
-    }
-    if (!(white > black)) continue;
-    double integral = 0;  // trapezoid rule
-    for (int i = 0; i < end; ++i) {
-      integral += 0.5 * (profile[i] + profile[i + 1] - 2 * black) * step;
-    }
-    const double offset = d - integral / (white - black);
-    const Eigen::Vector2d edge = p + offset * normal;
-    points.emplace_back(static_cast<float>(edge.x()),
-                        static_cast<float>(edge.y()));
+std::optional<Eigen::Vector2d> EdgePoint(const cv::Mat& gray,
+                                         const std::vector<float>& linear,
+                                         const Eigen::Vector2d& p,
+                                         const Eigen::Vector2d& normal,
+                                         double d,
+                                         std::vector<double>* profile) {
+  // The contrast is judged in codes (40 levels of 255), as a person sees
+  // it, so dim footage is refined as before; judged first, as half the
+  // data cells are black and have no edge to profile.
+  const Eigen::Vector2d inside = p - d * normal, outside = p + d * normal;
+  const auto in_image = [&](const Eigen::Vector2d& q) {
+    return q.x() >= 0 && q.y() >= 0 && q.x() + 1 < gray.cols &&
+           q.y() + 1 < gray.rows;
+  };
+  if (!in_image(inside) || !in_image(outside) ||
+      SampleLuma<T>(gray, outside.x(), outside.y()) -
+              SampleLuma<T>(gray, inside.x(), inside.y()) <
+          40.0) {
+    return std::nullopt;
   }
-  if (points.size() < 8) return false;
-  cv::fitLine(points, *line, cv::DIST_L2, 0, 1e-6, 1e-6);
-  if (fit != nullptr) {
-    double sum = 0.0;
-    for (const cv::Point2f& q : points) {
-      // Distance from the line through (x0, y0) along (vx, vy).
-      const double d =
-          ((*line)[0] * (q.y - (*line)[3]) - (*line)[1] * (q.x - (*line)[2]));
-      sum += d * d;
-    }
-    *fit = {sampled, static_cast<int>(points.size()),
-            std::sqrt(sum / points.size())};
+  // Light below black is kept: a phone's sharpening undershoots the ink
+  // below video black (limited range's code 16), and dropping those
+  // profiles left the tag unrefined.
+  constexpr double kStep = 0.25;
+  profile->clear();
+  for (double s = -d; s <= d + 1e-9; s += kStep) {
+    const Eigen::Vector2d q = p + s * normal;
+    profile->push_back(SampleLinearLuma<T>(gray, linear, q.x(), q.y()));
   }
-  return true;
+  const std::vector<double>& v = *profile;
+  const int end = static_cast<int>(v.size()) - 1;
+  const int flat = static_cast<int>(1.0 / kStep);  // 1 px at each end
+  double black = 0, white = 0;
+  for (int i = 0; i <= flat; ++i) {
+    black += v[i] / (flat + 1);
+    white += v[end - i] / (flat + 1);
+  }
+  if (!(white > black)) return std::nullopt;
+  double integral = 0;  // trapezoid rule
+  for (int i = 0; i < end; ++i) {
+    integral += 0.5 * (v[i] + v[i + 1] - 2 * black) * kStep;
+  }
+  return p + (d - integral / (white - black)) * normal;
 }
 
-// FitEdgeOf for 8 or 16-bit luma (vision/luma.h).
-bool FitEdge(const cv::Mat& gray, const Eigen::Vector2d& a,
-             const Eigen::Vector2d& b, const TagDetectorOptions& options,
-             cv::Vec4f* line, EdgeFit* fit = nullptr) {
+// One side of the black border, from corner a to corner b.
+struct BorderSide {
+  cv::Vec4f outer;  // the outer edge's line (x0, y0 at vx, vy as fitLine's)
+  Eigen::Vector2d normal;  // outward unit normal
+  // The border's width across, as measured, linear in the distance t from
+  // a (width_slope is zero where the data cannot say): twice the bias of
+  // one edge plus the cell's true width.
+  double width_at_a = 0, width_slope = 0;
+  bool has_width = false;
+  int sampled = 0, clean = 0;  // outer-edge profiles taken and used
+  double rms_px = 0.0;         // their points' RMS distance from `outer`
+};
+
+// The side's outer edge (black inside, white outside) along its middle
+// 60 %, and, inside each data cell that is white, its inner edge: the
+// border's width. Both edges of the one-cell bar go from black to white
+// away from its middle, so anything that moves an edge toward the dark or
+// the bright side (a transfer curve the metadata does not name, blur or
+// sharpening applied to codes, the phone's tone curve) moves them apart or
+// together by the same amount and leaves the bar's midline where it is:
+// the midline, not the outer edge, is what locates the tag (issue 28;
+// each alone is off by 0.4-0.6 % of the tag's size under a phone's
+// sharpening or blur in codes).
+template <typename T>
+std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
+                                          const Eigen::Vector2d& a,
+                                          const Eigen::Vector2d& b,
+                                          const TagDetectorOptions& options) {
+  const Eigen::Vector2d along = (b - a).normalized();
+  BorderSide side;
+  // Outward normal: libapriltag's corners run counter-clockwise as seen on
+  // screen, so with y down outward is (-along_y, along_x).
+  side.normal = Eigen::Vector2d(-along.y(), along.x());
+  const double length = (b - a).norm();
+  const double cell = length / kCellsAcrossBorder;
+  // Each profile's dark end must stay on the one-cell bar.
+  const double d = std::min(options.edge_half_width_px, 0.45 * cell);
+  const std::vector<float>& linear =
+      LinearLumaTable(options.luma_encoding, cv::DataType<T>::depth);
+  // One buffer for every profile: this runs for every frame's tag.
+  std::vector<double> profile;
+  profile.reserve(static_cast<size_t>(2 * d / 0.25) + 2);
+  // Profiles every half pixel, at most 160 along the middle 60 % (a 1080p
+  // tag's; a 4K tag's edge gets them a pixel apart, the same spacing in
+  // millimetres): this runs for every frame.
+  const double spacing = std::max(0.5, 0.6 * length / 160.0);
+  std::vector<cv::Point2f> points;
+  for (double t = 0.2 * length; t <= 0.8 * length; t += spacing) {
+    ++side.sampled;
+    if (const auto edge = EdgePoint<T>(gray, linear, a + t * along, side.normal,
+                                       d, &profile)) {
+      points.emplace_back(static_cast<float>(edge->x()),
+                          static_cast<float>(edge->y()));
+    }
+  }
+  side.clean = static_cast<int>(points.size());
+  if (points.size() < 8) return std::nullopt;
+  cv::fitLine(points, side.outer, cv::DIST_L2, 0, 1e-6, 1e-6);
+  const Eigen::Vector2d origin(side.outer[2], side.outer[3]);
+  // From here on the fitted edge's own normal: the corners the side was
+  // taken from are a few tenths of a pixel off, which turns the normal by
+  // a few milliradians, and 60 px along the side that is 0.1 px across.
+  const Eigen::Vector2d fitted(-side.outer[1], side.outer[0]);
+  side.normal = fitted.dot(side.normal) > 0 ? fitted : -fitted;
+  double sum = 0.0;
+  for (const cv::Point2f& q : points) {
+    const double off = (Eigen::Vector2d(q.x, q.y) - origin).dot(side.normal);
+    sum += off * off;
+  }
+  side.rms_px = std::sqrt(sum / points.size());
+
+  // The inner edge along the middle fifth of each data cell, 0.4 of a cell
+  // from its neighbours (under a phone's 2 px sharpening a black neighbour
+  // still darkens the halo 5 px away): a black cell has no edge there and
+  // fails EdgePoint's contrast test.
+  std::vector<Eigen::Vector2d> widths;  // (t, width)
+  for (int k = 1; k < kCellsAcrossBorder - 1; ++k) {
+    for (double t = (k + 0.4) * cell; t <= (k + 0.6) * cell; t += spacing) {
+      const Eigen::Vector2d p = a + t * along - cell * side.normal;
+      const auto edge =
+          EdgePoint<T>(gray, linear, p, -side.normal, d, &profile);
+      if (!edge) continue;
+      const double width = (origin - *edge).dot(side.normal);
+      if (std::abs(width - cell) < 0.25 * cell) widths.emplace_back(t, width);
+    }
+  }
+  if (widths.size() < 4) return side;
+  // A straight line through (t, width): perspective changes the cell's
+  // width along the side by up to a few tenths of a percent per degree.
+  double st = 0, sw = 0;
+  for (const Eigen::Vector2d& w : widths) st += w.x(), sw += w.y();
+  const double n = static_cast<double>(widths.size());
+  const double t_mean = st / n, w_mean = sw / n;
+  double stt = 0, stw = 0;
+  for (const Eigen::Vector2d& w : widths) {
+    stt += (w.x() - t_mean) * (w.x() - t_mean);
+    stw += (w.x() - t_mean) * (w.y() - w_mean);
+  }
+  // Only white cells spread along the side (by more than a cell, RMS) say
+  // how the width changes.
+  const bool spread = std::sqrt(stt / n) > cell;
+  side.width_slope = spread ? stw / stt : 0.0;
+  side.width_at_a = w_mean - side.width_slope * t_mean;
+  side.has_width = true;
+  return side;
+}
+
+std::optional<BorderSide> FitBorderSide(const cv::Mat& gray,
+                                        const Eigen::Vector2d& a,
+                                        const Eigen::Vector2d& b,
+                                        const TagDetectorOptions& options) {
   return WithLumaType(gray, [&](auto type) {
-    return FitEdgeOf<decltype(type)>(gray, a, b, options, line, fit);
+    return FitBorderSideOf<decltype(type)>(gray, a, b, options);
   });
 }
 
-Eigen::Vector2d Intersect(const cv::Vec4f& l1, const cv::Vec4f& l2) {
+Eigen::Vector2d Intersect(const Eigen::Vector2d& p1, const Eigen::Vector2d& d1,
+                          const Eigen::Vector2d& p2,
+                          const Eigen::Vector2d& d2) {
   // Points p1 + s d1 = p2 + t d2.
   Eigen::Matrix2d m;
-  m << l1[0], -l2[0], l1[1], -l2[1];
-  const Eigen::Vector2d rhs(l2[2] - l1[2], l2[3] - l1[3]);
-  const Eigen::Vector2d st = m.inverse() * rhs;
-  return {l1[2] + st[0] * l1[0], l1[3] + st[0] * l1[1]};
+  m << d1, -d2;
+  const Eigen::Vector2d st = m.inverse() * (p2 - p1);
+  return p1 + st[0] * d1;
+}
+
+// The homography taking the square's corners `from` onto `to` (4 points, no
+// three on a line), h33 = 1.
+Eigen::Matrix3d HomographyOf(const std::array<Eigen::Vector2d, 4>& from,
+                             const std::array<Eigen::Vector2d, 4>& to) {
+  Eigen::Matrix<double, 8, 8> a;
+  Eigen::Matrix<double, 8, 1> rhs;
+  for (int c = 0; c < 4; ++c) {
+    const double x = from[c].x(), y = from[c].y();
+    const double u = to[c].x(), v = to[c].y();
+    a.row(2 * c) << x, y, 1, 0, 0, 0, -u * x, -u * y;
+    a.row(2 * c + 1) << 0, 0, 0, x, y, 1, -v * x, -v * y;
+    rhs(2 * c) = u;
+    rhs(2 * c + 1) = v;
+  }
+  const Eigen::Matrix<double, 8, 1> h = a.partialPivLu().solve(rhs);
+  Eigen::Matrix3d out;
+  out << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), 1.0;
+  return out;
+}
+
+// The outer corners from the border's midlines (FitBorderSideOf): the
+// midlines meet at the corners of a square 7 cells across, and the plane's
+// homography through them gives the black border's corners 8 cells across.
+// A side whose six data cells are all black takes the other sides' mean
+// width. Without any width (no white data cell on the border, or a tag too
+// small to show one) the outer edges are used as they are.
+std::array<Eigen::Vector2d, 4> CornersOf(
+    const std::array<BorderSide, 4>& sides,
+    const std::array<Eigen::Vector2d, 4>& approximate) {
+  double width_sum = 0.0;
+  int widths = 0;
+  for (const BorderSide& side : sides) {
+    if (side.has_width) width_sum += side.width_at_a, ++widths;
+  }
+  std::array<Eigen::Vector2d, 4> points, directions;
+  for (int c = 0; c < 4; ++c) {
+    const BorderSide& side = sides[c];
+    const Eigen::Vector2d origin(side.outer[2], side.outer[3]);
+    const Eigen::Vector2d direction(side.outer[0], side.outer[1]);
+    if (widths == 0) {
+      points[c] = origin, directions[c] = direction;
+      continue;
+    }
+    // Two points of the midline, half the width inside the outer edge, at
+    // the side's two ends.
+    const Eigen::Vector2d& a = approximate[c];
+    const Eigen::Vector2d& b = approximate[(c + 1) % 4];
+    const double length = (b - a).norm();
+    const auto on_outer = [&](const Eigen::Vector2d& p) {
+      return origin + (p - origin).dot(direction) * direction;
+    };
+    const double w_a = side.has_width ? side.width_at_a : width_sum / widths;
+    const double w_b = w_a + (side.has_width ? side.width_slope : 0.0) * length;
+    const Eigen::Vector2d m_a = on_outer(a) - 0.5 * w_a * side.normal;
+    const Eigen::Vector2d m_b = on_outer(b) - 0.5 * w_b * side.normal;
+    points[c] = m_a, directions[c] = (m_b - m_a).normalized();
+  }
+  std::array<Eigen::Vector2d, 4> corners;
+  for (int c = 0; c < 4; ++c) {
+    corners[c] = Intersect(points[(c + 3) % 4], directions[(c + 3) % 4],
+                           points[c], directions[c]);
+  }
+  if (widths == 0) return corners;
+  // The square in cells about its centre: the midlines' corners are half a
+  // cell inside the border's.
+  const std::array<Eigen::Vector2d, 4> unit = {
+      Eigen::Vector2d(-1, 1), Eigen::Vector2d(1, 1), Eigen::Vector2d(1, -1),
+      Eigen::Vector2d(-1, -1)};
+  std::array<Eigen::Vector2d, 4> midline_square;
+  for (int c = 0; c < 4; ++c) {
+    midline_square[c] = 0.5 * (kCellsAcrossBorder - 1) * unit[c];
+  }
+  const Eigen::Matrix3d image_from_cells =
+      HomographyOf(midline_square, corners);
+  for (int c = 0; c < 4; ++c) {
+    corners[c] =
+        (image_from_cells * (0.5 * kCellsAcrossBorder * unit[c]).homogeneous())
+            .hnormalized();
+  }
+  return corners;
+}
+
+// The four sides fitted from corners known to a few pixels; nullopt when a
+// side's outer edge had too few clean points.
+std::optional<std::array<BorderSide, 4>> FitBorder(
+    const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
+    const TagDetectorOptions& options) {
+  std::array<BorderSide, 4> sides;
+  for (int c = 0; c < 4; ++c) {
+    auto side =
+        FitBorderSide(gray, approximate[c], approximate[(c + 1) % 4], options);
+    if (!side) return std::nullopt;
+    sides[c] = *side;
+  }
+  return sides;
 }
 
 }  // namespace
@@ -131,21 +309,15 @@ Eigen::Vector2d Intersect(const cv::Vec4f& l1, const cv::Vec4f& l2) {
 std::optional<std::array<Eigen::Vector2d, 4>> RefineTagCorners(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
     const TagDetectorOptions& options, double max_edge_rms_px) {
-  std::array<cv::Vec4f, 4> edges;
-  for (int c = 0; c < 4; ++c) {
-    EdgeFit fit;
+  const auto sides = FitBorder(gray, approximate, options);
+  if (!sides) return std::nullopt;
+  for (const BorderSide& side : *sides) {
     // A covered or shadowed stretch leaves points out or bends the edge.
-    if (!FitEdge(gray, approximate[c], approximate[(c + 1) % 4], options,
-                 &edges[c], &fit) ||
-        fit.clean < 0.9 * fit.sampled || fit.rms_px > max_edge_rms_px) {
+    if (side.clean < 0.9 * side.sampled || side.rms_px > max_edge_rms_px) {
       return std::nullopt;
     }
   }
-  std::array<Eigen::Vector2d, 4> corners;
-  for (int c = 0; c < 4; ++c) {
-    corners[c] = Intersect(edges[(c + 3) % 4], edges[c]);
-  }
-  return corners;
+  return CornersOf(*sides, approximate);
 }
 
 struct TagDetector::Apriltag {
@@ -187,17 +359,25 @@ std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) const {
       // libapriltag puts pixel centres at +0.5; OpenCV at integers.
       tag.coarse_corners[c] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5};
     }
-    std::array<cv::Vec4f, 4> edges;
-    bool refined = true;
-    for (int c = 0; c < 4 && refined; ++c) {
-      refined = FitEdge(gray, tag.coarse_corners[c],
-                        tag.coarse_corners[(c + 1) % 4], options_, &edges[c]);
+    tag.corners = tag.coarse_corners;
+    tag.refined = false;
+    // Fitted again from the corners found until they hold still: the
+    // profiles then sit centred on each edge, as a phone's sharpening halos
+    // move an edge whose profile is off-centre by tenths of a pixel, and
+    // libapriltag's corners can be a pixel off.
+    for (int pass = 0; pass < kMaxBorderFits; ++pass) {
+      const auto sides = FitBorder(gray, tag.corners, options_);
+      if (!sides) break;
+      const std::array<Eigen::Vector2d, 4> corners =
+          CornersOf(*sides, tag.corners);
+      double moved = 0.0;
+      for (int c = 0; c < 4; ++c) {
+        moved = std::max(moved, (corners[c] - tag.corners[c]).norm());
+      }
+      tag.corners = corners;
+      tag.refined = true;
+      if (moved < 0.01) break;
     }
-    for (int c = 0; c < 4; ++c) {
-      tag.corners[c] = refined ? Intersect(edges[(c + 3) % 4], edges[c])
-                               : tag.coarse_corners[c];
-    }
-    tag.refined = refined;
     tags.push_back(tag);
   }
   apriltag_detections_destroy(detections);

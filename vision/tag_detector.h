@@ -15,10 +15,11 @@
 namespace softbench {
 
 struct TagDetectorOptions {
-  // Half length [px] of the profiles taken across each outer edge; the black
-  // border and the white quiet zone must each be wider (a 25 mm tag36h11 at
-  // the thesis's 0.18 mm/px has 17 px cells).
-  double edge_half_width_px = 5.0;
+  // Half length [px] of the profiles taken across the black border's edges,
+  // at most 0.45 of a cell (a 25 mm tag36h11 at the thesis's 0.18 mm/px has
+  // 17 px cells): long enough to hold a phone's sharpening halos, which
+  // reach 2-3 blur radii beyond an edge.
+  double edge_half_width_px = 7.0;
   // libapriltag finds the tag's outline in an image decimated by this factor
   // (its bits and our edges are still read at full resolution): 2 is about
   // three times faster on a 1080p frame, and a tag must be ~25 px wide or
@@ -47,10 +48,14 @@ struct TagDetection {
 };
 
 // tag36h11 detection: libapriltag finds tags and decodes ids at full
-// resolution; the four outer edges are then located to sub-pixel accuracy
-// (see FitEdge in tag_detector.cc) and intersected, because libapriltag's
-// corners are off by up to ~0.2 px even on exact noise-free renderings and
-// cornerSubPix shrinks anti-aliased corners by about as much. Building
+// resolution; the black border's two edges on each side (the outer one and,
+// at its white data cells, the inner one) are then located to sub-pixel
+// accuracy and the border's midlines intersected (FitBorderSideOf in
+// tag_detector.cc), because libapriltag's corners are off by up to ~0.2 px
+// even on exact noise-free renderings, cornerSubPix shrinks anti-aliased
+// corners by about as much, and an edge alone moves with whatever the
+// camera did to its codes (a tone curve, sharpening, scaling after the
+// curve) by up to 0.6 % of the tag's size. Building
 // libapriltag's decoding table costs as much as a 1080p detection, so one
 // detector serves many frames.
 class TagDetector {
@@ -70,10 +75,10 @@ class TagDetector {
 };
 
 // The outer corners of a tag already known to within a few pixels (the last
-// frame's): each edge located afresh as TagDetector does and intersected.
-// nullopt when an edge is partly hidden (under 90 % of its profiles have
-// clean black and white ends) or not straight (RMS of its points about the
-// line above `max_edge_rms_px`): a covered tag is never half-measured.
+// frame's): the border located afresh as TagDetector does. nullopt when an
+// outer edge is partly hidden (under 90 % of its profiles have clean black
+// and white ends) or not straight (RMS of its points about the line above
+// `max_edge_rms_px`): a covered tag is never half-measured.
 std::optional<std::array<Eigen::Vector2d, 4>> RefineTagCorners(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
     const TagDetectorOptions& options, double max_edge_rms_px);

@@ -78,6 +78,13 @@ void AddRenderSceneFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--shot-noise", options->render.shot_noise_dn,
                 "signal-dependent noise variance per level")
       ->capture_default_str();
+  c->add_option("--tone-curve", options->render.tone_curve,
+                "strength 0..1 of the phone's S tone curve on the codes, "
+                "which the metadata does not name")
+      ->capture_default_str();
+  c->add_option("--sharpen", options->sharpen,
+                "unsharp-mask sharpening on the codes: RADIUS_PX,AMOUNT "
+                "(e.g. 1,0.8)");
   c->add_option("--supersampling", options->render.supersampling,
                 "subsamples per pixel side on edges")
       ->capture_default_str();
@@ -158,7 +165,7 @@ namespace {
 constexpr double kMaxRenderFrames = 300000.0;
 
 // The camera and scene of --resolution, --focal-*, --principal-point,
-// --tilt-deg, --distortion, --no-motion-blur and --no-ring.
+// --tilt-deg, --distortion, --sharpen, --no-motion-blur and --no-ring.
 RenderOptions SceneFromFlags(const RenderCommandOptions& flags) {
   const cv::Size size = ParseResolution(flags.resolution);
   if (!(flags.focal_35mm > 0.0)) throw InputError("--focal-35mm: must be > 0");
@@ -190,6 +197,12 @@ RenderOptions SceneFromFlags(const RenderCommandOptions& flags) {
         ParseNumberList(flags.distortion, "--distortion");
     if (d.size() != 5) throw InputError("--distortion: give k1,k2,p1,p2,k3");
     std::copy(d.begin(), d.end(), scene.intrinsics.distortion.begin());
+  }
+  if (!flags.sharpen.empty()) {
+    const std::vector<double> s = ParseNumberList(flags.sharpen, "--sharpen");
+    if (s.size() != 2) throw InputError("--sharpen: give radius_px,amount");
+    scene.sharpen_radius_px = s[0];
+    scene.sharpen_amount = s[1];
   }
   scene.motion_blur = !flags.no_motion_blur;
   scene.ring = !flags.no_ring;

@@ -30,6 +30,7 @@ struct RenderCommandOptions {
   std::string principal_point;  // "cx,cy" in pixels; default: the centre
   std::string tilt_deg;         // "x,y"
   std::string distortion;       // "k1,k2,p1,p2,k3"
+  std::string sharpen;          // "radius_px,amount"
   bool no_motion_blur = false;
   bool no_ring = false;
   // What a phone's video is like: bits, chroma, range, HDR transfer, the

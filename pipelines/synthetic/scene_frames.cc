@@ -75,6 +75,25 @@ cv::Mat SceneRenderer::Render(
   const cv::Vec3f exposure =
       conditions.channel_gain * static_cast<float>(conditions.brightness);
   static const CodeFromLinearTable kBt709Table(Transfer::kSdr);
+  // The camera's codes (8-bit levels) before noise: the BT.709 curve, then
+  // the phone's own tone curve.
+  cv::Mat codes(linear.size(), CV_32FC3);
+  const float k = static_cast<float>(options_.tone_curve);
+  codes.forEach<cv::Vec3f>([&](cv::Vec3f& code, const int* at) {
+    const cv::Vec3f& light = linear.at<cv::Vec3f>(at[0], at[1]);
+    const float g = gain_.at<float>(at[0], at[1]);
+    for (int c = 0; c < 3; ++c) {
+      const float x =
+          kBt709Table(light[c] * g * exposure[c] / 255.0f) / 65535.0f;
+      code[c] = 255.0f * ((1 - k) * x + k * x * x * (3 - 2 * x));
+    }
+  });
+  if (options_.sharpen_amount > 0.0) {
+    cv::Mat soft;
+    cv::GaussianBlur(codes, soft, cv::Size(), options_.sharpen_radius_px);
+    cv::addWeighted(codes, 1.0 + options_.sharpen_amount, soft,
+                    -options_.sharpen_amount, 0.0, codes);
+  }
   cv::Mat out(linear.size(), options_.sixteen_bit ? CV_16UC3 : CV_8UC3);
   // Fixed stripes, each with its own seeded generator: the same frame for any
   // number of threads.
@@ -88,17 +107,14 @@ cv::Mat SceneRenderer::Render(
       cv::Mat noise(end - begin, linear.cols, CV_32FC3);
       rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
       for (int v = begin; v < end; ++v) {
-        const auto* in = linear.ptr<cv::Vec3f>(v);
-        const auto* g = gain_.ptr<float>(v);
+        const auto* in = codes.ptr<cv::Vec3f>(v);
         const auto* n = noise.ptr<cv::Vec3f>(v - begin);
         auto* o8 = out.ptr<cv::Vec3b>(v);
         auto* o16 = out.ptr<cv::Vec3w>(v);
         for (int u = 0; u < linear.cols; ++u) {
           for (int c = 0; c < 3; ++c) {
-            const float light = in[u][c] * g[u] * exposure[c];
-            // The camera's BT.709 curve, then noise in codes.
-            const float signal =
-                kBt709Table(light / 255.0f) * (255.0f / 65535.0f);
+            // Noise in codes, after the phone's processing.
+            const float signal = in[u][c];
             const float sigma =
                 std::sqrt(static_cast<float>(options_.noise_sigma_dn *
                                              options_.noise_sigma_dn) +

@@ -28,6 +28,15 @@ struct RenderOptions {
   // levels] and signal-dependent variance per level.
   double noise_sigma_dn = 0.6;
   double shot_noise_dn = 0.01;
+  // A phone's processing on its codes after the curve, which the video's
+  // metadata does not describe (issue 28). tone_curve: strength k in
+  // [0, 1] of an S-curve, (1 - k) c + k (3 c^2 - 2 c^3) on codes c in
+  // [0, 1] (darker shadows, brighter highlights); 0 is none.
+  double tone_curve = 0.0;
+  // Unsharp-mask sharpening on the codes: c + amount (c - blur(c)) with a
+  // Gaussian of sigma sharpen_radius_px; amount 0 is none.
+  double sharpen_radius_px = 1.0;
+  double sharpen_amount = 0.0;
   double lighting_gradient = 0.12;  // relative brightness change across
   double vignetting = 0.2;          // relative darkening at the corners
   bool red_tube = false;            // a red air tube crossing the frame
@@ -76,8 +85,8 @@ class SceneRenderer {
   // The 8-bit frame as the camera records it: RenderLinear seen by the
   // camera after `conditions.motion` (the linear frame resampled exactly
   // along the moved camera's rays, bilinearly in full precision), then
-  // exposure, white balance, lighting, vignetting, the BT.709 curve and
-  // noise in codes (seeded by the
+  // exposure, white balance, lighting, vignetting, the BT.709 curve, the
+  // phone's tone curve and sharpening, and noise in codes (seeded by the
   // options' seed and `frame_index`). CV_8UC3, or CV_16UC3 with
   // RenderOptions::sixteen_bit.
   cv::Mat Render(const std::vector<Eigen::VectorXd>& displacement_samples,

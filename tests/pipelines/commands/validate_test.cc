@@ -315,7 +315,8 @@ class ValidateCommandTest : public ScratchDirectoryTest {
   RenderCommandOptions QuickRender(const char* plan_yaml) const {
     return QuickRenderOptions(scratch(), plan_yaml);
   }
-  void CheckPhoneFormat(const std::function<void(RenderCommandOptions*)>& set);
+  double CheckPhoneFormat(
+      const std::function<void(RenderCommandOptions*)>& set);
   ValidateCommandOptions CheckClockOffset(const std::string& sample,
                                           const std::string& log, int windows);
   // Validate's options for the delta sample's video against `plan` (YAML
@@ -475,8 +476,10 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
 
 // Renders the slip plan changed by `set` (one thing a phone's video is,
 // with the camera still) and checks every displacement within 0.005 mm of
-// the truth and hysteresis on the test that slips and no other.
-void ValidateCommandTest::CheckPhoneFormat(
+// the truth and hysteresis on the test that slips and no other. Returns the
+// dots' spacing through the tag's scale over the plan's layout (the
+// distortion check's median ratio).
+double ValidateCommandTest::CheckPhoneFormat(
     const std::function<void(RenderCommandOptions*)>& set) {
   RenderCommandOptions render = QuickRender(R"(mechanism: delta
 pressure_unit: psi
@@ -509,7 +512,8 @@ tests:
   const RenderedTruth truth = ReadRenderedTruth(render.truth_path);
   double worst = 0.0;
   for (const TestScore& score : result.tests) {
-    ASSERT_TRUE(score.measured) << score.reason;
+    EXPECT_TRUE(score.measured) << score.reason;
+    if (!score.measured) continue;
     const Eigen::VectorXd d = TruthDisplacement(
         truth, score.windows[kInitialWindow], score.windows[kActuatedWindow]);
     worst = std::max(worst, (score.heads[0].measured_mm - d).norm());
@@ -519,6 +523,7 @@ tests:
   EXPECT_LT(worst, 0.005);
   EXPECT_EQ(result.hysteresis_flagged, std::vector<std::string>{"b"});
   EXPECT_TRUE(result.camera_moved_windows.empty());
+  return m.distortion.median_ratio;
 }
 
 // An iPhone's default: HEVC Main 10 with HLG and BT.2020.
@@ -548,6 +553,29 @@ TEST_F(ValidateCommandTest, PortraitRotatedVideoMeetsTheBar) {
     r->resolution = "720x1280";
     r->rotation_deg = 90;
   });
+}
+
+// A phone's own processing on the codes of a stream that says BT.709
+// (issue 28), at 1080p where the tag's cells are 17 px: each moves a tag
+// edge by tenths of a pixel, up to 0.6 % of the tag's size, which the
+// border's midlines leave out, so the dots' spacing measured through the
+// tag's scale is the plan's to 0.05 %. (The two together still miss the
+// bar, 0.0068 mm, and 720p's 11 px cells leave 0.1-0.5 % of scale under
+// strong sharpening: issue 28 stays open on both.)
+TEST_F(ValidateCommandTest, PhoneToneCurveMeetsTheBar) {
+  const double ratio = CheckPhoneFormat([](RenderCommandOptions* r) {
+    r->resolution = "1080p";
+    r->render.tone_curve = 0.6;
+  });
+  EXPECT_NEAR(ratio, 1.0, 5e-4);
+}
+
+TEST_F(ValidateCommandTest, PhoneSharpeningMeetsTheBar) {
+  const double ratio = CheckPhoneFormat([](RenderCommandOptions* r) {
+    r->resolution = "1080p";
+    r->sharpen = "1.5,1.0";
+  });
+  EXPECT_NEAR(ratio, 1.0, 5e-4);
 }
 
 // A variable frame rate: frame times jitter by up to 0.4 of a frame.
