@@ -35,13 +35,6 @@ namespace {
 // fit: a bump's roll moves far points differently by up to about this.
 constexpr double kStartGatePx = 1.5;
 
-double LargestMove(const std::array<Eigen::Vector2d, 4>& a,
-                   const std::array<Eigen::Vector2d, 4>& b) {
-  double largest = 0.0;
-  for (int c = 0; c < 4; ++c) largest = std::max(largest, (a[c] - b[c]).norm());
-  return largest;
-}
-
 const BenchRegistrationOptions& Checked(const BenchRegistrationOptions& o) {
   // A programmer error: options come from code, not from users.
   SOFTBENCH_CHECK(!o.Problem()) << *o.Problem();
@@ -160,7 +153,7 @@ std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::Follow(
     const auto corners =
         RefineTagCorners(luma, start, options_.tag, options_.max_edge_rms_px);
     if (!corners) return std::nullopt;
-    const double moved = LargestMove(*corners, start);
+    const double moved = LargestCornerMove(*corners, start);
     start = *corners;
     if (moved < options_.refit_tolerance_px) break;
   }
@@ -171,7 +164,7 @@ std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::FindTag(
     const cv::Mat& luma) {
   if (!tag_) return std::nullopt;
   if (auto corners = Follow(luma, last_corners_)) return corners;
-  if (LargestMove(last_corners_, tag_->corners) > 0.0) {
+  if (LargestCornerMove(last_corners_, tag_->corners) > 0.0) {
     if (auto corners = Follow(luma, tag_->corners)) return corners;
   }
   // A bump beyond the edge profiles: detect the tag afresh near its last

@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "util/check.h"
@@ -207,26 +209,6 @@ Eigen::Vector2d Intersect(const Eigen::Vector2d& p1, const Eigen::Vector2d& d1,
   return p1 + st[0] * d1;
 }
 
-// The homography taking the square's corners `from` onto `to` (4 points, no
-// three on a line), h33 = 1.
-Eigen::Matrix3d HomographyOf(const std::array<Eigen::Vector2d, 4>& from,
-                             const std::array<Eigen::Vector2d, 4>& to) {
-  Eigen::Matrix<double, 8, 8> a;
-  Eigen::Matrix<double, 8, 1> rhs;
-  for (int c = 0; c < 4; ++c) {
-    const double x = from[c].x(), y = from[c].y();
-    const double u = to[c].x(), v = to[c].y();
-    a.row(2 * c) << x, y, 1, 0, 0, 0, -u * x, -u * y;
-    a.row(2 * c + 1) << 0, 0, 0, x, y, 1, -v * x, -v * y;
-    rhs(2 * c) = u;
-    rhs(2 * c + 1) = v;
-  }
-  const Eigen::Matrix<double, 8, 1> h = a.partialPivLu().solve(rhs);
-  Eigen::Matrix3d out;
-  out << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), 1.0;
-  return out;
-}
-
 // The outer corners from the border's midlines (FitBorderSideOf): the
 // midlines meet at the corners of a square 7 cells across, and the plane's
 // homography through them gives the black border's corners 8 cells across.
@@ -279,8 +261,24 @@ std::array<Eigen::Vector2d, 4> CornersOf(
   for (int c = 0; c < 4; ++c) {
     midline_square[c] = 0.5 * (kCellsAcrossBorder - 1) * unit[c];
   }
-  const Eigen::Matrix3d image_from_cells =
-      HomographyOf(midline_square, corners);
+  std::vector<cv::Point2d> from, to;
+  for (int c = 0; c < 4; ++c) {
+    from.emplace_back(midline_square[c].x(), midline_square[c].y());
+    to.emplace_back(corners[c].x(), corners[c].y());
+  }
+  // Four points: the exact homography through them (in double precision).
+  const cv::Mat homography = cv::findHomography(from, to);
+  if (homography.empty()) {  // no quadrilateral: the outer edges as found
+    for (int c = 0; c < 4; ++c) {
+      const cv::Vec4f& l1 = sides[(c + 3) % 4].outer;
+      const cv::Vec4f& l2 = sides[c].outer;
+      corners[c] = Intersect({l1[2], l1[3]}, {l1[0], l1[1]}, {l2[2], l2[3]},
+                             {l2[0], l2[1]});
+    }
+    return corners;
+  }
+  Eigen::Matrix3d image_from_cells;
+  cv::cv2eigen(homography, image_from_cells);
   for (int c = 0; c < 4; ++c) {
     corners[c] =
         (image_from_cells * (0.5 * kCellsAcrossBorder * unit[c]).homogeneous())
@@ -370,10 +368,7 @@ std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) const {
       if (!sides) break;
       const std::array<Eigen::Vector2d, 4> corners =
           CornersOf(*sides, tag.corners);
-      double moved = 0.0;
-      for (int c = 0; c < 4; ++c) {
-        moved = std::max(moved, (corners[c] - tag.corners[c]).norm());
-      }
+      const double moved = LargestCornerMove(corners, tag.corners);
       tag.corners = corners;
       tag.refined = true;
       if (moved < 0.01) break;
@@ -382,6 +377,13 @@ std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) const {
   }
   apriltag_detections_destroy(detections);
   return tags;
+}
+
+double LargestCornerMove(const std::array<Eigen::Vector2d, 4>& a,
+                         const std::array<Eigen::Vector2d, 4>& b) {
+  double largest = 0.0;
+  for (int c = 0; c < 4; ++c) largest = std::max(largest, (a[c] - b[c]).norm());
+  return largest;
 }
 
 std::array<Eigen::Vector2d, 4> AverageTagCorners(

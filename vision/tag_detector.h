@@ -83,6 +83,10 @@ std::optional<std::array<Eigen::Vector2d, 4>> RefineTagCorners(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
     const TagDetectorOptions& options, double max_edge_rms_px);
 
+// The largest distance between corresponding corners [px].
+double LargestCornerMove(const std::array<Eigen::Vector2d, 4>& a,
+                         const std::array<Eigen::Vector2d, 4>& b);
+
 // The tag's corners averaged over frames: each frame's corners first moved
 // onto `reference` by the shift and roll that fit them best (the camera's
 // own small motion since the reference frame), then averaged. A codec's
