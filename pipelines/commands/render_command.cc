@@ -78,6 +78,9 @@ void AddRenderSceneFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--shot-noise", options->render.shot_noise_dn,
                 "signal-dependent noise variance per level")
       ->capture_default_str();
+  c->add_option("--lens-blur", options->render.lens_blur_px,
+                "the lens's blur in light: a Gaussian's sigma [px]")
+      ->capture_default_str();
   c->add_option("--tone-curve", options->render.tone_curve,
                 "strength 0..1 of the phone's S tone curve on the codes, "
                 "which the metadata does not name")

@@ -72,6 +72,9 @@ cv::Mat SceneRenderer::Render(
       conditions.motion.scale != 1.0) {
     linear = Moved(linear, conditions.motion);
   }
+  if (options_.lens_blur_px > 0.0) {
+    cv::GaussianBlur(linear, linear, cv::Size(), options_.lens_blur_px);
+  }
   const cv::Vec3f exposure =
       conditions.channel_gain * static_cast<float>(conditions.brightness);
   static const CodeFromLinearTable kBt709Table(Transfer::kSdr);

@@ -103,6 +103,9 @@ std::optional<std::string> RenderOptions::Problem() const {
     return "noise must be 0..255 codes";
   }
   if (!(exposure_s >= 0.0)) return "exposure must be >= 0";
+  if (!(lens_blur_px >= 0.0 && lens_blur_px <= 5.0)) {
+    return "lens blur must be 0..5 px";
+  }
   if (!(tone_curve >= 0.0 && tone_curve <= 1.0)) {
     return "tone curve strength must be 0..1";
   }

@@ -28,6 +28,9 @@ struct RenderOptions {
   // levels] and signal-dependent variance per level.
   double noise_sigma_dn = 0.6;
   double shot_noise_dn = 0.01;
+  // The lens's blur, in light before the sensor: a Gaussian of this sigma
+  // [px]; 0 is none (each pixel the exact average of its area's light).
+  double lens_blur_px = 0.0;
   // A phone's processing on its codes after the curve, which the video's
   // metadata does not describe (issue 28). tone_curve: strength k in
   // [0, 1] of an S-curve, (1 - k) c + k (3 c^2 - 2 c^3) on codes c in

@@ -411,5 +411,42 @@ TEST(SceneRenderer, TagScaleIgnoresWhatThePhoneDoesToItsCodes) {
   }
 }
 
+// The lens's blur (render --lens-blur) spreads light symmetrically, before
+// the curve: the dots' centres and the tag's size stay where the truth says,
+// while the image is visibly softer.
+TEST(SceneRenderer, LensBlurSoftensTheImageButMovesNothing) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  RenderOptions options = Clean(2.0);
+  const SceneRenderer sharp_renderer(plan, options);
+  options.lens_blur_px = 1.0;
+  const SceneRenderer renderer(plan, options);
+  EXPECT_FALSE(options.Problem().has_value());
+  const Eigen::Vector2d x(0.3719, -0.6024);
+  const cv::Mat blurred = renderer.Render({x}, 0);
+  const cv::Mat sharp = sharp_renderer.Render({x}, 0);
+  // The steepest step between neighbours drops by more than a third.
+  const auto steepest = [](const cv::Mat& bgr) {
+    cv::Mat gray, dx;
+    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+    cv::Sobel(gray, dx, CV_32F, 1, 0);
+    double top = 0.0;
+    cv::minMaxLoc(cv::abs(dx), nullptr, &top);
+    return top;
+  };
+  EXPECT_LT(steepest(blurred), 0.67 * steepest(sharp));
+  for (const DotTruth& dot : renderer.Dots(x)) {
+    EXPECT_LT((CoverageCentroid(blurred, dot.pixel) - dot.pixel).norm(), 0.01);
+  }
+  cv::Mat luma;
+  cv::cvtColor(blurred, luma, cv::COLOR_BGR2GRAY);
+  const std::vector<TagDetection> tags = TagDetector().Detect(luma);
+  ASSERT_EQ(tags.size(), 1u);
+  EXPECT_NEAR(TagSize({tags[0].corners.begin(), tags[0].corners.end()}) /
+                  TagSize(renderer.TagCorners()),
+              1.0, 5e-4);
+  options.lens_blur_px = -1.0;
+  EXPECT_EQ(options.Problem(), "lens blur must be 0..5 px");
+}
+
 }  // namespace
 }  // namespace softbench
