@@ -12,6 +12,7 @@
 # test's error and the worst; docs/measurement.md quotes them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+root=$PWD
 softbench=$PWD/build/release/softbench
 [[ -x $softbench ]] || { echo "build first: cmake --build --preset release" >&2; exit 2; }
 command -v ffmpeg >/dev/null || { echo "needs ffmpeg: scripts/bootstrap.sh --bench" >&2; exit 2; }
@@ -19,18 +20,7 @@ command -v ffmpeg >/dev/null || { echo "needs ffmpeg: scripts/bootstrap.sh --ben
 mkdir -p "$1"
 cd "$1"
 
-cat > plan.yaml <<'EOF'
-mechanism: delta
-pressure_unit: psi
-calibration:
-  tag: {family: tag36h11, id: 3, size_mm: 25}
-scene: {settle_time_constant_s: 0.1, lead_in_s: 1.5, hold_s: 2, rest_s: 2.5}
-tests:
-  - {id: a, pressures: [6, 0, 0]}
-  - {id: b, pressures: [0, 6, 0], residual_offset_mm: [0.1, 0]}
-  - {id: c, pressures: [4, 6, 1]}
-  - {id: d, pressures: [5, 5, 4]}
-EOF
+cp "$root/scripts/delta_four_points.plan.yaml" plan.yaml
 "$softbench" render --plan plan.yaml --out still_sdr.mp4 --truth truth.csv \
   --plan-out rendered.plan.yaml --resolution 1080p --crf 8 --seed 21 --quiet
 
@@ -55,30 +45,6 @@ ffmpeg -hide_banner -loglevel error -y -i still_sdr.mp4 -vf "$shake,$to_hlg" \
 
 "$softbench" validate --plan rendered.plan.yaml phone_hlg.mp4 --out report --quiet
 
-# Each test's measured displacement (results.csv) against the truth's
-# median over the same windows (summary.json).
-python3 - <<'EOF'
-import csv, json, statistics
-
-truth = list(csv.DictReader(open("truth.csv")))
-summary = json.load(open("report/summary.json"))
-results = {r["test_id"]: r for r in csv.DictReader(open("report/results.csv"))}
-
-
-def median(window, column):
-    return statistics.median(
-        float(t[column]) for t in truth
-        if window["start_s"] <= float(t["time_s"]) < window["end_s"])
-
-
-worst = 0.0
-for test in summary["tests"]:
-    initial, actuated = test["windows"]["initial"], test["windows"]["actuated"]
-    r = results[test["id"]]
-    error = ((float(r["measured_dy_mm"]) - (median(actuated, "y1_mm") - median(initial, "y1_mm"))) ** 2 +
-             (float(r["measured_dz_mm"]) - (median(actuated, "z1_mm") - median(initial, "z1_mm"))) ** 2) ** 0.5
-    worst = max(worst, error)
-    print(f"{test['id']}: {r['status']}, error {error:.4f} mm")
-print(f"worst {worst:.4f} mm; hysteresis flagged: {summary['hysteresis']['flagged']}; "
-      f"camera moved in: {summary['registration']['camera_moved_windows']}")
-EOF
+# Each test's measured displacement against the truth's median over the
+# same windows.
+"$root/scripts/score_against_truth.py" truth.csv report phone_hlg.mp4

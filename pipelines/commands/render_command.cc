@@ -78,14 +78,30 @@ void AddRenderSceneFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--shot-noise", options->render.shot_noise_dn,
                 "signal-dependent noise variance per level")
       ->capture_default_str();
-  c->add_option("--lens-blur", options->render.lens_blur_px,
-                "the lens's blur in light: a Gaussian's sigma [px]")
+  c->add_flag("--isp", options->processing.isp,
+              "a phone's image pipeline: lens blur 0.6 px, RGGB Bayer with "
+              "edge-aware demosaicing and raw noise (6000 e- full well, 2 e- "
+              "read), S tone curve 0.6, sharpening 1,0.8; the flags below "
+              "override each stage");
+  c->add_option("--lens-blur", options->processing.lens_blur_px,
+                "the lens's blur in light: a Gaussian's sigma [px] (default "
+                "0)");
+  c->add_option("--bayer", options->processing.bayer,
+                "an RGGB colour filter on the sensor, demosaiced: bilinear or "
+                "edge-aware");
+  c->add_option("--sensor-full-well", options->processing.sensor_full_well_e,
+                "electrons at white on the Bayer sensor: its shot noise (0: "
+                "none)");
+  c->add_option("--sensor-read-noise", options->processing.sensor_read_noise_e,
+                "the Bayer sensor's read noise [electrons]");
+  c->add_option("--sensor-scale", options->render.sensor_scale,
+                "sensor pixels per video pixel side (1-4): the scene is drawn, "
+                "filtered and demosaiced there and scaled down by area")
       ->capture_default_str();
-  c->add_option("--tone-curve", options->render.tone_curve,
+  c->add_option("--tone-curve", options->processing.tone_curve,
                 "strength 0..1 of the phone's S tone curve on the codes, "
-                "which the metadata does not name")
-      ->capture_default_str();
-  c->add_option("--sharpen", options->sharpen,
+                "which the metadata does not name (default 0)");
+  c->add_option("--sharpen", options->processing.sharpen,
                 "unsharp-mask sharpening on the codes: RADIUS_PX,AMOUNT "
                 "(e.g. 1,0.8)");
   c->add_option("--supersampling", options->render.supersampling,
@@ -146,6 +162,10 @@ void AddRenderPhoneFlags(CLI::App* c, RenderCommandOptions* options) {
                 "display rotation to store, clockwise degrees (90: a phone "
                 "held upright); --resolution is the upright picture")
       ->capture_default_str();
+  c->add_option("--rolling-shutter-ms", options->rolling_shutter_ms,
+                "a rolling shutter: ms from the sensor's first line to its "
+                "last (a phone: 10-30), so tremor shears the frame")
+      ->capture_default_str();
   c->add_option("--vfr-jitter", options->vfr_jitter,
                 "variable frame rate: each frame's time moves by up to this "
                 "fraction of the frame interval (0-0.9), on a 600 Hz clock "
@@ -168,7 +188,8 @@ namespace {
 constexpr double kMaxRenderFrames = 300000.0;
 
 // The camera and scene of --resolution, --focal-*, --principal-point,
-// --tilt-deg, --distortion, --sharpen, --no-motion-blur and --no-ring.
+// --tilt-deg, --distortion, the phone's processing, --no-motion-blur and
+// --no-ring.
 RenderOptions SceneFromFlags(const RenderCommandOptions& flags) {
   const cv::Size size = ParseResolution(flags.resolution);
   if (!(flags.focal_35mm > 0.0)) throw InputError("--focal-35mm: must be > 0");
@@ -201,12 +222,7 @@ RenderOptions SceneFromFlags(const RenderCommandOptions& flags) {
     if (d.size() != 5) throw InputError("--distortion: give k1,k2,p1,p2,k3");
     std::copy(d.begin(), d.end(), scene.intrinsics.distortion.begin());
   }
-  if (!flags.sharpen.empty()) {
-    const std::vector<double> s = ParseNumberList(flags.sharpen, "--sharpen");
-    if (s.size() != 2) throw InputError("--sharpen: give radius_px,amount");
-    scene.sharpen_radius_px = s[0];
-    scene.sharpen_amount = s[1];
-  }
+  ApplyPhoneProcessing(flags.processing, &scene);
   scene.motion_blur = !flags.no_motion_blur;
   scene.ring = !flags.no_ring;
   scene.sixteen_bit = flags.bit_depth > 8;
@@ -289,6 +305,14 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   render.conditions = ConditionsFromFlags(options);
   render.writer = WriterFromFlags(options);
   render.vfr_jitter = options.vfr_jitter;
+  if (!(options.rolling_shutter_ms >= 0.0 &&
+        options.rolling_shutter_ms <= 1000.0 / options.fps)) {
+    throw InputError(fmt::format(
+        "--rolling-shutter-ms: must be between 0 and one frame interval "
+        "({:.4g} ms at {} fps)",
+        1000.0 / options.fps, options.fps));
+  }
+  render.readout_s = options.rolling_shutter_ms / 1000.0;
   render.progress = !options.quiet;
   if (auto problem = render.Problem()) throw InputError("render: " + *problem);
   const fs::path video(options.output_path);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "pipelines/commands/render_flags.h"
 #include "pipelines/synthetic/bench_conditions.h"
 #include "pipelines/synthetic/scene_renderer.h"
 
@@ -26,11 +27,11 @@ struct RenderCommandOptions {
   std::string preset = "medium";
   double fps = 30.0;
   double focal_35mm = 52.0;
-  double focal_px = 0.0;        // overrides focal_35mm when > 0
-  std::string principal_point;  // "cx,cy" in pixels; default: the centre
-  std::string tilt_deg;         // "x,y"
-  std::string distortion;       // "k1,k2,p1,p2,k3"
-  std::string sharpen;          // "radius_px,amount"
+  double focal_px = 0.0;            // overrides focal_35mm when > 0
+  std::string principal_point;      // "cx,cy" in pixels; default: the centre
+  std::string tilt_deg;             // "x,y"
+  std::string distortion;           // "k1,k2,p1,p2,k3"
+  PhoneProcessingFlags processing;  // --isp, --lens-blur, --bayer, ...
   bool no_motion_blur = false;
   bool no_ring = false;
   // What a phone's video is like: bits, chroma, range, HDR transfer, the
@@ -42,6 +43,7 @@ struct RenderCommandOptions {
   std::string hdr;  // "", "hlg" or "pq"
   int rotation_deg = 0;
   double vfr_jitter = 0.0;
+  double rolling_shutter_ms = 0.0;  // first line to last; 0: global shutter
   // Camera motion and exposure drift (bench_conditions.h).
   std::string camera_drift_px;            // "dx,dy" over the whole video
   std::vector<std::string> camera_bumps;  // "t:dx,dy[,roll_deg]" each

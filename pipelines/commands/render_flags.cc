@@ -43,4 +43,34 @@ CameraBump ParseCameraBump(const std::string& text) {
   return bump;
 }
 
+void ApplyPhoneProcessing(const PhoneProcessingFlags& flags,
+                          RenderOptions* scene) {
+  const bool isp = flags.isp;
+  scene->lens_blur_px = flags.lens_blur_px.value_or(isp ? 0.6 : 0.0);
+  scene->tone_curve = flags.tone_curve.value_or(isp ? 0.6 : 0.0);
+  if (!flags.sharpen.empty()) {
+    const std::vector<double> s = ParseNumberList(flags.sharpen, "--sharpen");
+    if (s.size() != 2) throw InputError("--sharpen: give radius_px,amount");
+    scene->sharpen_radius_px = s[0];
+    scene->sharpen_amount = s[1];
+  } else if (isp) {
+    scene->sharpen_radius_px = 1.0;
+    scene->sharpen_amount = 0.8;
+  }
+  if (!flags.bayer.empty()) {
+    const std::optional<Demosaic> demosaic = ParseDemosaic(flags.bayer);
+    if (!demosaic) {
+      throw InputError("--bayer: '" + flags.bayer +
+                       "' is not a demosaic; give bilinear or edge-aware");
+    }
+    scene->sensor.demosaic = *demosaic;
+  } else if (isp) {
+    scene->sensor.demosaic = Demosaic::kEdgeAware;
+  }
+  scene->sensor.full_well_e = flags.sensor_full_well_e.value_or(
+      isp && scene->sensor.demosaic != Demosaic::kNone ? 6000.0 : 0.0);
+  scene->sensor.read_noise_e = flags.sensor_read_noise_e.value_or(
+      scene->sensor.full_well_e > 0.0 ? 2.0 : 0.0);
+}
+
 }  // namespace softbench

@@ -1,5 +1,6 @@
 #include "pipelines/synthetic/bench_conditions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -93,6 +94,24 @@ FrameConditions BenchConditions::At(double time_s) const {
                                           std::sin(phase / 1.37 + 1.0));
   c.channel_gain = {1.0f + kelvin / 3000.0f, 1.0f, 1.0f - kelvin / 3000.0f};
   c.tag_visible = time_s < options_.tag_gone_after_s;
+  return c;
+}
+
+FrameConditions BenchConditions::ReadOut(double time_s, double readout_s,
+                                         int rotation_deg) const {
+  FrameConditions c = At(time_s);
+  if (readout_s <= 0.0) return c;
+  const bool columns = rotation_deg == 90 || rotation_deg == 270;
+  const int lines = columns ? intrinsics_.width_px : intrinsics_.height_px;
+  // Upright line i is read k-th.
+  const bool reversed = rotation_deg == 90 || rotation_deg == 180;
+  std::vector<CameraMotion>& motion = columns ? c.column_motion : c.row_motion;
+  for (int i = 0; i < lines; ++i) {
+    const int k = reversed ? lines - 1 - i : i;
+    const double line_time_s =
+        time_s + readout_s * (k - 0.5 * (lines - 1)) / std::max(lines - 1, 1);
+    motion.push_back(At(line_time_s).motion);
+  }
   return c;
 }
 

@@ -50,7 +50,12 @@ struct BenchConditionsOptions {
 
 // The conditions of one frame.
 struct FrameConditions {
-  CameraMotion motion;                 // since the video's start
+  CameraMotion motion;  // since the video's start
+  // A rolling shutter: the camera's motion when each line of the upright
+  // frame was read, by row, or by column for a sensor turned a quarter
+  // (a portrait video); both empty: every line read at once (`motion`).
+  std::vector<CameraMotion> row_motion;
+  std::vector<CameraMotion> column_motion;
   double brightness = 1.0;             // multiplies the exposure
   cv::Vec3f channel_gain = {1, 1, 1};  // BGR, white balance
   bool tag_visible = true;
@@ -61,6 +66,14 @@ class BenchConditions {
   BenchConditions(const BenchConditionsOptions& options,
                   const CameraIntrinsics& intrinsics, double duration_s);
   FrameConditions At(double time_s) const;
+  // The conditions of a frame read by a rolling shutter: At(time_s), with
+  // the camera's motion when each line was read, over `readout_s` from the
+  // first line to the last, `time_s` the middle line's time. Lines are the
+  // stored video's rows, top first: the upright frame's columns from the
+  // right for a `rotation_deg` of 90, from the left for 270, its rows from
+  // the bottom for 180. `readout_s` 0: At(time_s).
+  FrameConditions ReadOut(double time_s, double readout_s,
+                          int rotation_deg) const;
 
  private:
   BenchConditionsOptions options_;

@@ -117,7 +117,8 @@ std::string RenderFrames(const TestPlan& plan, const RenderOptions& scene,
   std::future<void> encoding;
   for (int64_t k = 0; k < frames; ++k) {
     const double t = times[k];
-    const FrameConditions conditions = bench.At(t);
+    const FrameConditions conditions =
+        bench.ReadOut(t, options.readout_s, options.writer.rotation_deg);
     const std::vector<Eigen::VectorXd> samples =
         ExposureSamples(timeline, t, scene.exposure_s, scene.motion_blur);
     truth += TruthRow(k, t, renderer, samples, conditions, scene.intrinsics);
@@ -149,6 +150,9 @@ std::optional<std::string> RenderVideoOptions::Problem() const {
         "writer.time_base_hz: must be {} (the phone's clock) "
         "with a variable frame rate",
         kPhoneClockHz);
+  }
+  if (!(readout_s >= 0.0 && readout_s <= 1.0 / writer.fps)) {
+    return "readout_s: must be between 0 and one frame interval";
   }
   if (scene.sixteen_bit != (writer.bit_depth > 8)) {
     return "scene.sixteen_bit: must be set exactly for a bit depth above 8";

@@ -31,6 +31,12 @@ struct RenderVideoOptions {
   // Variable frame rate: each frame's time moves by up to this fraction of
   // the frame interval (0-0.9), on kPhoneClockHz; 0: constant.
   double vfr_jitter = 0.0;
+  // A rolling shutter: the time from reading the sensor's first line to its
+  // last [s] (a phone: 10-30 ms), so each line sees the camera where it was
+  // then and tremor shears the frame. The frame's time is its middle line's.
+  // Lines are the stored video's rows (the upright picture's columns in a
+  // portrait video). 0: every line read at once; at most one frame interval.
+  double readout_s = 0.0;
   bool progress = true;  // report progress (util/progress.h)
 
   // The first bad field, named, and what it must be.

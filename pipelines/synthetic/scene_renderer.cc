@@ -94,6 +94,9 @@ std::optional<std::string> RenderOptions::Problem() const {
   if (std::abs(tilt_x_deg) > 30.0 || std::abs(tilt_y_deg) > 30.0) {
     return "tilt must be within +-30 deg";
   }
+  if (sensor_scale < 1 || sensor_scale > 4) {
+    return "the sensor's scale must be 1..4 sensor pixels per video pixel";
+  }
   if (supersampling < 1 || supersampling > 64) {
     return "supersampling must be 1..64";
   }
@@ -106,6 +109,7 @@ std::optional<std::string> RenderOptions::Problem() const {
   if (!(lens_blur_px >= 0.0 && lens_blur_px <= 5.0)) {
     return "lens blur must be 0..5 px";
   }
+  if (auto problem = sensor.Problem()) return problem;
   if (!(tone_curve >= 0.0 && tone_curve <= 1.0)) {
     return "tone curve strength must be 0..1";
   }
@@ -172,16 +176,40 @@ void Composite(const PixelGrid& pixels,
 
 }  // namespace
 
+namespace {
+
+// The video camera's intrinsics at `scale` sensor pixels per video pixel
+// side: video pixel i spans sensor pixels [scale i, scale (i + 1)), so its
+// centre i is at scale (i + 0.5) - 0.5 on the sensor.
+CameraIntrinsics SensorIntrinsics(CameraIntrinsics k, int scale) {
+  if (scale == 1) return k;
+  k.fx_px *= scale;
+  k.fy_px *= scale;
+  k.cx_px = scale * (k.cx_px + 0.5) - 0.5;
+  k.cy_px = scale * (k.cy_px + 0.5) - 0.5;
+  k.width_px *= scale;
+  k.height_px *= scale;
+  return k;
+}
+
+}  // namespace
+
 SceneRenderer::SceneRenderer(const TestPlan& plan, const RenderOptions& options)
     : plan_(plan),
       options_(options),
       camera_(CameraIntrinsics{}, Eigen::Matrix3d::Identity(),
               Eigen::Vector3d::Zero()),
+      sensor_camera_(camera_),
       dot_height_(plan.calibration.plane_offset_mm) {
   const Mechanism& m = plan_.mechanism;
   for (const Head& head : m.heads) centre_mm_ += head.rest_mm / m.NumHeads();
   camera_ = Camera::LookingDown(
       options_.intrinsics,
+      Eigen::Vector3d(centre_mm_.x(), centre_mm_.y(), dot_height_),
+      options_.distance_mm, DegToRad(options_.tilt_x_deg),
+      DegToRad(options_.tilt_y_deg));
+  sensor_camera_ = Camera::LookingDown(
+      SensorIntrinsics(options_.intrinsics, options_.sensor_scale),
       Eigen::Vector3d(centre_mm_.x(), centre_mm_.y(), dot_height_),
       options_.distance_mm, DegToRad(options_.tilt_x_deg),
       DegToRad(options_.tilt_y_deg));
@@ -201,17 +229,17 @@ SceneRenderer::SceneRenderer(const TestPlan& plan, const RenderOptions& options)
   }
 
   auto pixels = std::make_shared<PixelGrid>();
-  const CameraIntrinsics& k = options_.intrinsics;
+  const CameraIntrinsics& k = sensor_camera_.intrinsics();
   pixels->fx = k.fx_px, pixels->fy = k.fy_px, pixels->cx = k.cx_px,
   pixels->cy = k.cy_px, pixels->width = k.width_px;
-  if (camera_.HasDistortion()) {
+  if (sensor_camera_.HasDistortion()) {
     std::vector<cv::Point2d> corners;
     corners.reserve(static_cast<size_t>(k.width_px + 1) * (k.height_px + 1));
     for (int j = 0; j <= k.height_px; ++j) {
       for (int i = 0; i <= k.width_px; ++i)
         corners.emplace_back(i - 0.5, j - 0.5);
     }
-    pixels->corners = camera_.UndistortPixels(corners);
+    pixels->corners = sensor_camera_.UndistortPixels(corners);
   }
   pixels_ = pixels;
   DrawStatic();
@@ -242,15 +270,16 @@ void SceneRenderer::DrawStatic() {
 }
 
 void SceneRenderer::DrawTable() {
-  const CameraIntrinsics& k = options_.intrinsics;
+  const CameraIntrinsics& k = sensor_camera_.intrinsics();
+  const double s = options_.sensor_scale;  // the grain's size in the video
   // Table: a grey-brown surface with coarse and fine grain (seeded).
   cv::RNG rng(options_.seed ^ 0x5EEDF00DULL);
   cv::Mat coarse(k.height_px, k.width_px, CV_32FC1),
       fine(coarse.size(), CV_32FC1);
   rng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
   rng.fill(fine, cv::RNG::NORMAL, 0.0, 1.0);
-  cv::GaussianBlur(coarse, coarse, cv::Size(), 9.0);
-  cv::GaussianBlur(fine, fine, cv::Size(), 1.2);
+  cv::GaussianBlur(coarse, coarse, cv::Size(), 9.0 * s);
+  cv::GaussianBlur(fine, fine, cv::Size(), 1.2 * s);
   cv::Mat grain = coarse * (12.0 / 0.045) + fine * 3.0;
   std::vector<cv::Mat> channels(3);
   for (int c = 0; c < 3; ++c) channels[c] = grain + kTableCode[c];
@@ -266,7 +295,7 @@ void SceneRenderer::DrawRing() {
   const Eigen::Matrix3d on_ring = camera_.NormalizedFromPlane(0.0).inverse();
   Composite(
       *pixels_, on_ring,
-      CircleBox(camera_, centre_mm_, ring_outer_mm_ + 1, 0.0),
+      CircleBox(sensor_camera_, centre_mm_, ring_outer_mm_ + 1, 0.0),
       options_.supersampling,
       [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
         const double r = (p - centre_mm_).norm();
@@ -293,7 +322,7 @@ void SceneRenderer::DrawTag() {
   const double half = cell * cells / 2.0;
   Composite(
       *pixels_, on_ring,
-      CircleBox(camera_, tag_center_mm_, half * std::sqrt(2.0), 0.0),
+      CircleBox(sensor_camera_, tag_center_mm_, half * std::sqrt(2.0), 0.0),
       options_.supersampling,
       [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
         const Eigen::Vector2d d = p - tag_center_mm_;
@@ -309,7 +338,7 @@ void SceneRenderer::DrawTag() {
 }
 
 void SceneRenderer::MakeGain() {
-  const CameraIntrinsics& k = options_.intrinsics;
+  const CameraIntrinsics& k = sensor_camera_.intrinsics();
   // Lighting: a linear gradient times cos^4-like vignetting.
   gain_.create(k.height_px, k.width_px, CV_32FC1);
   const double half_diagonal = std::hypot(k.width_px, k.height_px) / 2.0;
@@ -410,8 +439,8 @@ void SceneRenderer::DrawBellows(const Eigen::VectorXd& displacements_mm,
         Eigen::Vector2d(-(to - from).y(), (to - from).x()).normalized() * 11.0;
     Composite(
         *pixels_, on_bellows,
-        ImageBox(camera_, {from + side, from - side, to + side, to - side},
-                 height),
+        ImageBox(sensor_camera_,
+                 {from + side, from - side, to + side, to - side}, height),
         options_.supersampling,
         [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
           *colour = kBellowsColor;
@@ -429,7 +458,7 @@ void SceneRenderer::DrawDisc(const Eigen::Vector2d& centre, double radius,
   const Eigen::Vector2d corner(box_half_mm, box_half_mm);
   Composite(
       *pixels_, camera_.NormalizedFromPlane(dot_height_).inverse(),
-      ImageBox(camera_, {centre + corner, centre - corner}, dot_height_),
+      ImageBox(sensor_camera_, {centre + corner, centre - corner}, dot_height_),
       options_.supersampling,
       [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
         *colour = bgr;
@@ -459,7 +488,7 @@ void SceneRenderer::DrawHead(const MarkerSpec& marker,
   const double radius = side / std::sqrt(3.0);
   Composite(
       *pixels_, camera_.NormalizedFromPlane(dot_height_).inverse(),
-      ImageBox(camera_,
+      ImageBox(sensor_camera_,
                {centre + Eigen::Vector2d(radius, radius),
                 centre - Eigen::Vector2d(radius, radius)},
                dot_height_),
@@ -495,7 +524,7 @@ void SceneRenderer::DrawTube(cv::Mat* image) const {
     const Eigen::Vector2d& b = path[i + 1];
     Composite(
         *pixels_, on_tube,
-        ImageBox(camera_,
+        ImageBox(sensor_camera_,
                  {a + Eigen::Vector2d(3, 3), a - Eigen::Vector2d(3, 3),
                   b + Eigen::Vector2d(3, 3), b - Eigen::Vector2d(3, 3)},
                  height),

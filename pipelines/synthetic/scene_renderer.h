@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pipelines/formats/test_plan.h"
+#include "pipelines/synthetic/bayer_sensor.h"
 #include "pipelines/synthetic/bench_conditions.h"
 #include "vision/camera.h"
 #include "vision/camera_motion.h"
@@ -31,6 +32,14 @@ struct RenderOptions {
   // The lens's blur, in light before the sensor: a Gaussian of this sigma
   // [px]; 0 is none (each pixel the exact average of its area's light).
   double lens_blur_px = 0.0;
+  // The sensor's colour filter, raw noise and demosaicing, on the exposed
+  // light before the camera's curve (issue 28); none by default.
+  BayerSensorOptions sensor;
+  // Sensor pixels per video pixel side (1..4): a phone reads more pixels
+  // than its video has (12 MP for 1080p or 4K) and scales the demosaiced
+  // light down by area; the scene is drawn, moved, blurred and filtered at
+  // the sensor's size. 1: the sensor is the video's size.
+  int sensor_scale = 1;
   // A phone's processing on its codes after the curve, which the video's
   // metadata does not describe (issue 28). tone_curve: strength k in
   // [0, 1] of an S-curve, (1 - k) c + k (3 c^2 - 2 c^3) on codes c in
@@ -79,17 +88,20 @@ class SceneRenderer {
 
   const Camera& camera() const { return camera_; }
 
-  // The frame in linear light (float BGR, 8-bit levels, before lighting,
-  // the camera's transfer curve and noise) with the
+  // The frame in linear light at the sensor's size (float BGR, 8-bit
+  // levels, before lighting, the camera's transfer curve and noise) with the
   // heads at each of `displacement_samples` (y1, z1, ...), averaged: several
   // samples across the exposure give motion blur.
   cv::Mat RenderLinear(const std::vector<Eigen::VectorXd>& displacement_samples,
                        bool tag_visible = true) const;
   // The 8-bit frame as the camera records it: RenderLinear seen by the
   // camera after `conditions.motion` (the linear frame resampled exactly
-  // along the moved camera's rays, bilinearly in full precision), then
-  // exposure, white balance, lighting, vignetting, the BT.709 curve, the
-  // phone's tone curve and sharpening, and noise in codes (seeded by the
+  // along the moved camera's rays, bilinearly in full precision; line by
+  // line after its own motion under a rolling shutter), then the
+  // lens's blur, exposure, white balance, lighting, vignetting, the Bayer
+  // sensor (RenderOptions::sensor), the scaling from the sensor's size to
+  // the video's, the BT.709 curve, the phone's tone curve and sharpening,
+  // and noise in codes (seeded by the
   // options' seed and `frame_index`). CV_8UC3, or CV_16UC3 with
   // RenderOptions::sixteen_bit.
   cv::Mat Render(const std::vector<Eigen::VectorXd>& displacement_samples,
@@ -119,8 +131,9 @@ class SceneRenderer {
   // A world point's pixel in the camera after `motion`.
   Eigen::Vector2d Project(const Eigen::Vector3d& point_in_world,
                           const CameraMotion& motion) const;
-  // `linear` as the camera after `motion` sees it.
-  cv::Mat Moved(const cv::Mat& linear, const CameraMotion& motion) const;
+  // `linear` as the camera after `conditions`' motion sees it (each line
+  // after its own under a rolling shutter).
+  cv::Mat Moved(const cv::Mat& linear, const FrameConditions& conditions) const;
   // The moving layers at the heads' displacements, onto `image`.
   void DrawMoving(const Eigen::VectorXd& displacements_mm,
                   cv::Mat* image) const;
@@ -136,7 +149,8 @@ class SceneRenderer {
 
   TestPlan plan_;
   RenderOptions options_;
-  Camera camera_;
+  Camera camera_;         // the video's: the truth
+  Camera sensor_camera_;  // the same at the sensor's pixels: the drawing
   double dot_height_;
   Eigen::Vector2d tag_center_mm_ = Eigen::Vector2d::Zero();
   double ring_inner_mm_ = 0.0, ring_outer_mm_ = 0.0;

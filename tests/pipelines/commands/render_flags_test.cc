@@ -26,5 +26,58 @@ TEST(RenderFlags, ParsesResolutions) {
   }
 }
 
+// --isp sets every stage of a phone's processing; a stage's own flag wins,
+// including one that turns the stage off.
+TEST(RenderFlags, IspPresetsEveryStageAndEachFlagWins) {
+  RenderOptions none, isp, mixed;
+  ApplyPhoneProcessing(PhoneProcessingFlags(), &none);
+  EXPECT_EQ(none.lens_blur_px, 0.0);
+  EXPECT_EQ(none.tone_curve, 0.0);
+  EXPECT_EQ(none.sharpen_amount, 0.0);
+  EXPECT_EQ(none.sensor.demosaic, Demosaic::kNone);
+  EXPECT_FALSE(none.Problem());
+
+  PhoneProcessingFlags flags;
+  flags.isp = true;
+  ApplyPhoneProcessing(flags, &isp);
+  EXPECT_EQ(isp.lens_blur_px, 0.6);
+  EXPECT_EQ(isp.tone_curve, 0.6);
+  EXPECT_EQ(isp.sharpen_radius_px, 1.0);
+  EXPECT_EQ(isp.sharpen_amount, 0.8);
+  EXPECT_EQ(isp.sensor.demosaic, Demosaic::kEdgeAware);
+  EXPECT_EQ(isp.sensor.full_well_e, 6000.0);
+  EXPECT_EQ(isp.sensor.read_noise_e, 2.0);
+  EXPECT_FALSE(isp.Problem());
+
+  flags.lens_blur_px = 0.0;
+  flags.bayer = "bilinear";
+  flags.sensor_full_well_e = 0.0;
+  flags.sharpen = "2,0.3";
+  ApplyPhoneProcessing(flags, &mixed);
+  EXPECT_EQ(mixed.lens_blur_px, 0.0);
+  EXPECT_EQ(mixed.tone_curve, 0.6);
+  EXPECT_EQ(mixed.sharpen_radius_px, 2.0);
+  EXPECT_EQ(mixed.sharpen_amount, 0.3);
+  EXPECT_EQ(mixed.sensor.demosaic, Demosaic::kBilinear);
+  EXPECT_EQ(mixed.sensor.full_well_e, 0.0);
+  EXPECT_EQ(mixed.sensor.read_noise_e, 0.0);
+  EXPECT_FALSE(mixed.Problem());
+}
+
+TEST(RenderFlags, RefusesAPhoneStageItCannotRender) {
+  RenderOptions scene;
+  PhoneProcessingFlags flags;
+  flags.bayer = "vng";
+  EXPECT_THROW(ApplyPhoneProcessing(flags, &scene), InputError);
+  flags.bayer.clear();
+  flags.sharpen = "1";
+  EXPECT_THROW(ApplyPhoneProcessing(flags, &scene), InputError);
+  flags.sharpen.clear();
+  flags.sensor_full_well_e = 5000.0;  // noise without a colour filter
+  ApplyPhoneProcessing(flags, &scene);
+  EXPECT_EQ(scene.Problem(),
+            "the sensor's noise needs a colour filter (--bayer)");
+}
+
 }  // namespace
 }  // namespace softbench

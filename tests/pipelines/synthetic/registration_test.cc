@@ -116,5 +116,37 @@ TEST(BenchConditions, MovesTheCameraAsAsked) {
   EXPECT_NEAR(bench.At(3.0).motion.roll_rad(), DegToRad(0.05), 1e-9);
 }
 
+// A rolling shutter reads the stored frame's rows top first: with a drift
+// of 30 px/s and a 20 ms readout, the first line read sees the camera 0.6 px
+// behind the last, and the middle line where the frame's time says.
+TEST(BenchConditions, RollingShutterReadsEachLineAtItsOwnTime) {
+  BenchConditionsOptions options;
+  options.drift_px = {300.0, 0.0};  // over 10 s
+  const CameraIntrinsics k =
+      CameraIntrinsics::FromEquivalentFocalLength(52.0, 640, 480);
+  const BenchConditions bench(options, k, 10.0);
+  const double t = 5.0, readout_s = 0.02;
+  EXPECT_TRUE(bench.ReadOut(t, 0.0, 0).row_motion.empty());
+  const auto shift = [&](const CameraMotion& m) { return m.ShiftPx(k).x(); };
+  const double middle = shift(bench.At(t).motion);
+  for (const int rotation : {0, 90, 180, 270}) {
+    SCOPED_TRACE(rotation);
+    const FrameConditions c = bench.ReadOut(t, readout_s, rotation);
+    EXPECT_EQ(shift(c.motion), middle);
+    const bool columns = rotation == 90 || rotation == 270;
+    const std::vector<CameraMotion>& lines =
+        columns ? c.column_motion : c.row_motion;
+    ASSERT_EQ(lines.size(), columns ? 640u : 480u);
+    EXPECT_TRUE((columns ? c.row_motion : c.column_motion).empty());
+    // The stored frame's top row: upright row 0, column 639 (90), row 479
+    // (180), column 0 (270).
+    const bool reversed = rotation == 90 || rotation == 180;
+    const double first = shift((reversed ? lines.back() : lines.front()));
+    const double last = shift((reversed ? lines.front() : lines.back()));
+    EXPECT_NEAR(first, middle - 0.3, 1e-6);
+    EXPECT_NEAR(last, middle + 0.3, 1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace softbench

@@ -448,5 +448,77 @@ TEST(SceneRenderer, LensBlurSoftensTheImageButMovesNothing) {
   EXPECT_EQ(options.Problem(), "lens blur must be 0..5 px");
 }
 
+// A rolling shutter's frame: each row seen after its own camera motion, so
+// a shift growing down the frame (-8.5 px at the top, +11.5 px at the
+// bottom; the dots' rows differ by about 1 px of it) moves each dot by the
+// shift at its own row.
+TEST(SceneRenderer, RollingShutterMovesEachRowByItsOwnMotion) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  const RenderOptions options = Clean(0.0);
+  const SceneRenderer renderer(plan, options);
+  const Eigen::Vector2d x(-0.8137, 0.4519);
+  const int rows = options.intrinsics.height_px;
+  const auto shift_at = [&](double row) {
+    return Eigen::Vector2d(1.5 + 10.0 * (2.0 * row / (rows - 1) - 1.0), 0.0);
+  };
+  FrameConditions conditions;
+  for (int v = 0; v < rows; ++v) {
+    conditions.row_motion.push_back(
+        CameraMotion::FromImageShift(options.intrinsics, shift_at(v), 0.0));
+  }
+  const cv::Mat sheared = renderer.Render({x}, 0, conditions);
+  const std::vector<DotTruth> still = renderer.Dots(x);
+  for (size_t i = 0; i < still.size(); ++i) {
+    // Where the camera of the dot's own row sees it.
+    const CameraMotion row_motion = CameraMotion::FromImageShift(
+        options.intrinsics, shift_at(still[i].pixel.y()), 0.0);
+    const Eigen::Vector2d expected = renderer.Dots(x, row_motion)[i].pixel;
+    EXPECT_GT((expected - still[i].pixel).norm(), 0.5);
+    EXPECT_LT((CoverageCentroid(sheared, still[i].pixel) - expected).norm(),
+              0.01);
+  }
+}
+
+// A sensor with twice the video's pixels per side, drawn there and scaled
+// down by area (with and without its Bayer filter): the video's frame
+// still has the dots and the tag where the video camera's truth says. (With
+// the Bayer filter at the video's own size, the harder case, the end-to-end
+// tests measure it: ValidateCommandTest.PhoneBlurToneCurveAndSharpening.)
+TEST(SceneRenderer, ASensorFinerThanTheVideoSeesTheSameGeometry) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  for (const Demosaic demosaic : {Demosaic::kNone, Demosaic::kBilinear}) {
+    SCOPED_TRACE(static_cast<int>(demosaic));
+    RenderOptions options = Clean(2.0);
+    options.sensor_scale = 2;
+    options.sensor.demosaic = demosaic;
+    ASSERT_FALSE(options.Problem().has_value());
+    const SceneRenderer renderer(plan, options);
+    const Eigen::Vector2d x(0.3719, -0.6024);
+    EXPECT_EQ(renderer.RenderLinear({x}).cols, 2 * options.intrinsics.width_px);
+    const cv::Mat frame = renderer.Render({x}, 0);
+    ASSERT_EQ(frame.cols, options.intrinsics.width_px);
+    ASSERT_EQ(frame.rows, options.intrinsics.height_px);
+    // Bilinear demosaicing keeps the green of half the sites and averages
+    // it at the others: a filter that differs between the colour filter's
+    // phases, which moves a centroid by about 0.01 px.
+    const double tolerance_px = demosaic == Demosaic::kNone ? 0.01 : 0.02;
+    for (const DotTruth& dot : renderer.Dots(x)) {
+      EXPECT_LT((CoverageCentroid(frame, dot.pixel) - dot.pixel).norm(),
+                tolerance_px);
+    }
+    cv::Mat luma;
+    cv::cvtColor(frame, luma, cv::COLOR_BGR2GRAY);
+    const std::vector<TagDetection> tags = TagDetector().Detect(luma);
+    ASSERT_EQ(tags.size(), 1u);
+    EXPECT_NEAR(TagSize({tags[0].corners.begin(), tags[0].corners.end()}) /
+                    TagSize(renderer.TagCorners()),
+                1.0, 5e-4);
+  }
+  RenderOptions options;
+  options.sensor_scale = 5;
+  EXPECT_EQ(options.Problem(),
+            "the sensor's scale must be 1..4 sensor pixels per video pixel");
+}
+
 }  // namespace
 }  // namespace softbench
