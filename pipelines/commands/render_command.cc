@@ -81,7 +81,8 @@ void AddRenderSceneFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_flag("--isp", options->processing.isp,
               "a phone's image pipeline: lens blur 0.6 px, RGGB Bayer with "
               "edge-aware demosaicing and raw noise (6000 e- full well, 2 e- "
-              "read), S tone curve 0.6, sharpening 1,0.8; the flags below "
+              "read), S tone curve 0.6, local tone mapping 0.3, temporal "
+              "noise reduction 0.5, sharpening 1,0.8; the flags below "
               "override each stage");
   c->add_option("--lens-blur", options->processing.lens_blur_px,
                 "the lens's blur in light: a Gaussian's sigma [px] (default "
@@ -101,6 +102,12 @@ void AddRenderSceneFlags(CLI::App* c, RenderCommandOptions* options) {
   c->add_option("--tone-curve", options->processing.tone_curve,
                 "strength 0..1 of the phone's S tone curve on the codes, "
                 "which the metadata does not name (default 0)");
+  c->add_option("--local-tone", options->processing.local_tone,
+                "strength 0..1 of the phone's local tone mapping: a smooth "
+                "gain from each region's brightness (default 0)");
+  c->add_option("--temporal-denoise", options->processing.temporal_denoise,
+                "strength 0..0.95 of temporal noise reduction on still "
+                "regions: the previous frame's weight (default 0)");
   c->add_option("--sharpen", options->processing.sharpen,
                 "unsharp-mask sharpening on the codes: RADIUS_PX,AMOUNT "
                 "(e.g. 1,0.8)");
@@ -313,6 +320,7 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
         1000.0 / options.fps, options.fps));
   }
   render.readout_s = options.rolling_shutter_ms / 1000.0;
+  render.temporal_denoise = TemporalDenoiseFromFlags(options.processing);
   render.progress = !options.quiet;
   if (auto problem = render.Problem()) throw InputError("render: " + *problem);
   const fs::path video(options.output_path);

@@ -48,6 +48,7 @@ void ApplyPhoneProcessing(const PhoneProcessingFlags& flags,
   const bool isp = flags.isp;
   scene->lens_blur_px = flags.lens_blur_px.value_or(isp ? 0.6 : 0.0);
   scene->tone_curve = flags.tone_curve.value_or(isp ? 0.6 : 0.0);
+  scene->local_tone = flags.local_tone.value_or(isp ? 0.3 : 0.0);
   if (!flags.sharpen.empty()) {
     const std::vector<double> s = ParseNumberList(flags.sharpen, "--sharpen");
     if (s.size() != 2) throw InputError("--sharpen: give radius_px,amount");
@@ -71,6 +72,16 @@ void ApplyPhoneProcessing(const PhoneProcessingFlags& flags,
       isp && scene->sensor.demosaic != Demosaic::kNone ? 6000.0 : 0.0);
   scene->sensor.read_noise_e = flags.sensor_read_noise_e.value_or(
       scene->sensor.full_well_e > 0.0 ? 2.0 : 0.0);
+}
+
+TemporalDenoiseOptions TemporalDenoiseFromFlags(
+    const PhoneProcessingFlags& flags) {
+  TemporalDenoiseOptions options;
+  options.strength = flags.temporal_denoise.value_or(flags.isp ? 0.5 : 0.0);
+  if (auto problem = options.Problem()) {
+    throw InputError("--temporal-denoise: " + *problem);
+  }
+  return options;
 }
 
 }  // namespace softbench

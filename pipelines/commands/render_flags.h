@@ -7,6 +7,7 @@
 
 #include "pipelines/synthetic/bench_conditions.h"
 #include "pipelines/synthetic/scene_renderer.h"
+#include "pipelines/synthetic/temporal_denoiser.h"
 
 namespace softbench {
 
@@ -24,17 +25,23 @@ struct PhoneProcessingFlags {
   bool isp = false;
   std::optional<double> lens_blur_px;
   std::optional<double> tone_curve;
+  std::optional<double> local_tone;
+  std::optional<double> temporal_denoise;
   std::string sharpen;  // "radius_px,amount"
   std::string bayer;    // "bilinear" or "edge-aware"
   std::optional<double> sensor_full_well_e;
   std::optional<double> sensor_read_noise_e;
 };
 
-// Sets `scene`'s lens blur, sensor, tone curve and sharpening: a stage's flag
+// Sets `scene`'s lens blur, sensor, tone curves and sharpening: a stage's flag
 // wins over --isp's preset, which wins over none. Throws InputError naming
 // the flag for a malformed value; ranges are RenderOptions::Problem's.
 void ApplyPhoneProcessing(const PhoneProcessingFlags& flags,
                           RenderOptions* scene);
+
+// The temporal noise reduction of --temporal-denoise, or --isp's.
+TemporalDenoiseOptions TemporalDenoiseFromFlags(
+    const PhoneProcessingFlags& flags);
 
 }  // namespace softbench
 

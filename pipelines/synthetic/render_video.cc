@@ -115,6 +115,7 @@ std::string RenderFrames(const TestPlan& plan, const RenderOptions& scene,
   std::string truth = TruthHeader(plan.mechanism.NumHeads());
   ProgressBar progress("render", frames, options.progress);
   std::future<void> encoding;
+  TemporalDenoiser denoiser(options.temporal_denoise);
   for (int64_t k = 0; k < frames; ++k) {
     const double t = times[k];
     const FrameConditions conditions =
@@ -123,6 +124,7 @@ std::string RenderFrames(const TestPlan& plan, const RenderOptions& scene,
         ExposureSamples(timeline, t, scene.exposure_s, scene.motion_blur);
     truth += TruthRow(k, t, renderer, samples, conditions, scene.intrinsics);
     cv::Mat frame = renderer.Render(samples, k, conditions);
+    denoiser.Apply(&frame);
     TurnToStored(options.writer.rotation_deg, &frame);
     if (encoding.valid()) encoding.get();
     const double stamp = options.vfr_jitter > 0.0 ? t : -1.0;
@@ -142,6 +144,9 @@ std::optional<std::string> RenderVideoOptions::Problem() const {
   if (auto problem = scene.Problem()) return "scene: " + *problem;
   if (auto problem = conditions.Problem()) return "conditions: " + *problem;
   if (auto problem = writer.Problem()) return "writer: " + *problem;
+  if (auto problem = temporal_denoise.Problem()) {
+    return "temporal_denoise: " + *problem;
+  }
   if (!(vfr_jitter >= 0.0 && vfr_jitter <= 0.9)) {
     return "vfr_jitter: must be between 0 and 0.9";
   }

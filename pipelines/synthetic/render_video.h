@@ -8,6 +8,7 @@
 #include "pipelines/formats/test_plan.h"
 #include "pipelines/synthetic/bench_conditions.h"
 #include "pipelines/synthetic/scene_renderer.h"
+#include "pipelines/synthetic/temporal_denoiser.h"
 #include "vision/video_writer.h"
 
 namespace softbench {
@@ -37,6 +38,9 @@ struct RenderVideoOptions {
   // Lines are the stored video's rows (the upright picture's columns in a
   // portrait video). 0: every line read at once; at most one frame interval.
   double readout_s = 0.0;
+  // A phone's temporal noise reduction on each frame's codes against the
+  // previous frame (issue 28); none by default.
+  TemporalDenoiseOptions temporal_denoise;
   bool progress = true;  // report progress (util/progress.h)
 
   // The first bad field, named, and what it must be.

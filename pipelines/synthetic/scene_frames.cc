@@ -88,6 +88,38 @@ cv::Mat SceneRenderer::Moved(const cv::Mat& linear,
   return moved;
 }
 
+namespace {
+
+// Local tone mapping (RenderOptions::local_tone) on the light, BGR, 1 = white.
+void ApplyLocalTone(double strength, cv::Mat* light) {
+  // The luma's log on a coarse grid: the phone's tone map is computed small
+  // and applied through interpolation, so it varies smoothly and follows
+  // the scene's content frame by frame.
+  const int cells_down = 32;
+  const int cell = std::max(1, light->rows / cells_down);
+  cv::Mat luma;
+  cv::transform(*light, luma, cv::Matx13f(0.0722f, 0.7152f, 0.2126f));
+  cv::Mat coarse;
+  cv::resize(luma, coarse,
+             cv::Size(std::max(1, light->cols / cell),
+                      std::max(1, light->rows / cell)),
+             0, 0, cv::INTER_AREA);
+  cv::max(coarse, 1e-4, coarse);
+  cv::log(coarse, coarse);
+  cv::GaussianBlur(coarse, coarse, cv::Size(), 1.5, 1.5, cv::BORDER_REPLICATE);
+  // log gain = -s (log luma - log 0.18), within log(1/4)..log(4).
+  const double log_grey = std::log(0.18), limit = std::log(4.0);
+  cv::Mat log_gain = (coarse - log_grey) * -strength;
+  cv::min(cv::max(log_gain, -limit), limit, log_gain);
+  cv::Mat gain;
+  cv::resize(log_gain, gain, light->size(), 0, 0, cv::INTER_LINEAR);
+  cv::exp(gain, gain);
+  light->forEach<cv::Vec3f>(
+      [&](cv::Vec3f& l, const int* at) { l *= gain.at<float>(at[0], at[1]); });
+}
+
+}  // namespace
+
 cv::Mat SceneRenderer::Render(
     const std::vector<Eigen::VectorXd>& displacement_samples,
     int64_t frame_index, const FrameConditions& conditions) const {
@@ -121,6 +153,7 @@ cv::Mat SceneRenderer::Render(
     cv::resize(light, light, cv::Size(k.width_px, k.height_px), 0, 0,
                cv::INTER_AREA);
   }
+  if (options_.local_tone > 0.0) ApplyLocalTone(options_.local_tone, &light);
   static const CodeFromLinearTable kBt709Table(Transfer::kSdr);
   // The camera's codes (8-bit levels) before noise: the BT.709 curve, then
   // the phone's own tone curve.
@@ -129,8 +162,15 @@ cv::Mat SceneRenderer::Render(
   codes.forEach<cv::Vec3f>([&](cv::Vec3f& code, const int* at) {
     const cv::Vec3f& l = light.at<cv::Vec3f>(at[0], at[1]);
     for (int c = 0; c < 3; ++c) {
-      const float x = kBt709Table(l[c]) / 65535.0f;
-      code[c] = 255.0f * ((1 - k) * x + k * x * x * (3 - 2 * x));
+      // Scaled in one step without a tone curve, so the bundled samples
+      // re-render to the same bytes (scripts/make_samples.sh --check).
+      const float bt709 = kBt709Table(l[c]);
+      if (k == 0.0f) {
+        code[c] = bt709 * (255.0f / 65535.0f);
+      } else {
+        const float x = bt709 / 65535.0f;
+        code[c] = 255.0f * ((1 - k) * x + k * x * x * (3 - 2 * x));
+      }
     }
   });
   if (options_.sharpen_amount > 0.0) {

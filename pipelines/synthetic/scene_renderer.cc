@@ -113,6 +113,9 @@ std::optional<std::string> RenderOptions::Problem() const {
   if (!(tone_curve >= 0.0 && tone_curve <= 1.0)) {
     return "tone curve strength must be 0..1";
   }
+  if (!(local_tone >= 0.0 && local_tone <= 1.0)) {
+    return "local tone mapping strength must be 0..1";
+  }
   if (!(sharpen_radius_px >= 0.3 && sharpen_radius_px <= 5.0) ||
       !(sharpen_amount >= 0.0 && sharpen_amount <= 3.0)) {
     return "sharpening must have a radius of 0.3..5 px and an amount of 0..3";

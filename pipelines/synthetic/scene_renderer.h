@@ -45,6 +45,12 @@ struct RenderOptions {
   // [0, 1] of an S-curve, (1 - k) c + k (3 c^2 - 2 c^3) on codes c in
   // [0, 1] (darker shadows, brighter highlights); 0 is none.
   double tone_curve = 0.0;
+  // Local tone mapping (issue 28): a smooth gain on the light before the
+  // curve, from the frame's own luma on a coarse grid (cells of 1/32 of the
+  // frame's height, blurred over 1.5 cells and interpolated), as phones
+  // brighten shadows and dim highlights region by region. Strength s in
+  // [0, 1]: gain (luma_local / 0.18)^-s, within 1/4..4; 0 is none.
+  double local_tone = 0.0;
   // Unsharp-mask sharpening on the codes: c + amount (c - blur(c)) with a
   // Gaussian of sigma sharpen_radius_px; amount 0 is none.
   double sharpen_radius_px = 1.0;

@@ -33,6 +33,8 @@ TEST(RenderFlags, IspPresetsEveryStageAndEachFlagWins) {
   ApplyPhoneProcessing(PhoneProcessingFlags(), &none);
   EXPECT_EQ(none.lens_blur_px, 0.0);
   EXPECT_EQ(none.tone_curve, 0.0);
+  EXPECT_EQ(none.local_tone, 0.0);
+  EXPECT_EQ(TemporalDenoiseFromFlags(PhoneProcessingFlags()).strength, 0.0);
   EXPECT_EQ(none.sharpen_amount, 0.0);
   EXPECT_EQ(none.sensor.demosaic, Demosaic::kNone);
   EXPECT_FALSE(none.Problem());
@@ -42,6 +44,8 @@ TEST(RenderFlags, IspPresetsEveryStageAndEachFlagWins) {
   ApplyPhoneProcessing(flags, &isp);
   EXPECT_EQ(isp.lens_blur_px, 0.6);
   EXPECT_EQ(isp.tone_curve, 0.6);
+  EXPECT_EQ(isp.local_tone, 0.3);
+  EXPECT_EQ(TemporalDenoiseFromFlags(flags).strength, 0.5);
   EXPECT_EQ(isp.sharpen_radius_px, 1.0);
   EXPECT_EQ(isp.sharpen_amount, 0.8);
   EXPECT_EQ(isp.sensor.demosaic, Demosaic::kEdgeAware);
@@ -53,6 +57,8 @@ TEST(RenderFlags, IspPresetsEveryStageAndEachFlagWins) {
   flags.bayer = "bilinear";
   flags.sensor_full_well_e = 0.0;
   flags.sharpen = "2,0.3";
+  flags.local_tone = 0.0;
+  flags.temporal_denoise = 0.8;
   ApplyPhoneProcessing(flags, &mixed);
   EXPECT_EQ(mixed.lens_blur_px, 0.0);
   EXPECT_EQ(mixed.tone_curve, 0.6);
@@ -61,6 +67,8 @@ TEST(RenderFlags, IspPresetsEveryStageAndEachFlagWins) {
   EXPECT_EQ(mixed.sensor.demosaic, Demosaic::kBilinear);
   EXPECT_EQ(mixed.sensor.full_well_e, 0.0);
   EXPECT_EQ(mixed.sensor.read_noise_e, 0.0);
+  EXPECT_EQ(mixed.local_tone, 0.0);
+  EXPECT_EQ(TemporalDenoiseFromFlags(flags).strength, 0.8);
   EXPECT_FALSE(mixed.Problem());
 }
 
@@ -73,6 +81,8 @@ TEST(RenderFlags, RefusesAPhoneStageItCannotRender) {
   flags.sharpen = "1";
   EXPECT_THROW(ApplyPhoneProcessing(flags, &scene), InputError);
   flags.sharpen.clear();
+  flags.temporal_denoise = 1.0;  // the previous frame only: a frozen video
+  EXPECT_THROW(TemporalDenoiseFromFlags(flags), InputError);
   flags.sensor_full_well_e = 5000.0;  // noise without a colour filter
   ApplyPhoneProcessing(flags, &scene);
   EXPECT_EQ(scene.Problem(),

@@ -579,16 +579,18 @@ TEST_F(ValidateCommandTest, PhoneSharpeningMeetsTheBar) {
 }
 
 // The lens's blur in light, then the phone's S-curve and its sharpening on
-// the codes, at two strengths; the stronger one also through an RGGB Bayer
-// sensor with raw shot and read noise and bilinear demosaicing (its zipper
-// at every edge depends on where the edge falls on the colour filter).
-// Without the lens's blur (no camera is that sharp) the curve and the
-// sharpening together cost the dots' windowed centroids 0.0068 mm: the halo
-// of a pixel-sharp edge is where the window cuts it (docs/measurement.md).
+// the codes, at two strengths. The milder one also with the phone's
+// temporal noise reduction (each frame blended with the last where little
+// moves); the stronger one through an RGGB Bayer sensor with raw shot and read
+// noise and bilinear demosaicing (its zipper at every edge depends on where the
+// edge falls on the colour filter). Without the lens's blur (no camera is that
+// sharp) the curve and the sharpening together cost the dots' windowed
+// centroids 0.0068 mm: the halo of a pixel-sharp edge is where the window
+// cuts it (docs/measurement.md).
 TEST_F(ValidateCommandTest, PhoneBlurToneCurveAndSharpeningMeetTheBar) {
-  for (const auto& [blur_px, curve, sharpen, bayer] :
-       {std::tuple{0.6, 0.6, "1.5,1.0", ""},
-        std::tuple{1.0, 1.0, "1.0,1.5", "bilinear"}}) {
+  for (const auto& [blur_px, curve, sharpen, bayer, denoise] :
+       {std::tuple{0.6, 0.6, "1.5,1.0", "", 0.5},
+        std::tuple{1.0, 1.0, "1.0,1.5", "bilinear", 0.0}}) {
     SCOPED_TRACE(::testing::Message() << "lens blur " << blur_px << " px");
     const double ratio = CheckPhoneFormat([&](RenderCommandOptions* r) {
       r->resolution = "1080p";
@@ -596,6 +598,7 @@ TEST_F(ValidateCommandTest, PhoneBlurToneCurveAndSharpeningMeetTheBar) {
       r->processing.tone_curve = curve;
       r->processing.sharpen = sharpen;
       r->processing.bayer = bayer;
+      r->processing.temporal_denoise = denoise;
       if (!r->processing.bayer.empty()) {
         r->processing.sensor_full_well_e = 6000.0;
       }

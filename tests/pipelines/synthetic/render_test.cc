@@ -46,10 +46,12 @@ double Light(double code) { return 255 * ToLinear(Transfer::kSdr, code / 255); }
 // Centre of the dot near `pixel` from the green channel's contrast between
 // head and dot in light (a recorded frame's codes linearised): the weight is
 // exactly the dot's coverage of each pixel.
+// `gain`: the light's gain at the dot (a phone's local tone mapping).
 Eigen::Vector2d CoverageCentroid(const cv::Mat& image,
-                                 const Eigen::Vector2d& pixel) {
+                                 const Eigen::Vector2d& pixel,
+                                 double gain = 1.0) {
   // kHeadColor / red's green codes.
-  const double head = Light(217.0), dot = Light(40.0);
+  const double head = gain * Light(217.0), dot = gain * Light(40.0);
   double sum = 0, su = 0, sv = 0;
   for (int v = static_cast<int>(pixel.y()) - 16; v <= pixel.y() + 16; ++v) {
     for (int u = static_cast<int>(pixel.x()) - 16; u <= pixel.x() + 16; ++u) {
@@ -446,6 +448,56 @@ TEST(SceneRenderer, LensBlurSoftensTheImageButMovesNothing) {
               1.0, 5e-4);
   options.lens_blur_px = -1.0;
   EXPECT_EQ(options.Problem(), "lens blur must be 0..5 px");
+}
+
+// Local tone mapping (render --local-tone) lifts the dark table and dims
+// the white tag by a gain that varies smoothly, by under 0.5 % between
+// neighbouring pixels. (What it does to the measurement is measured end to
+// end: ValidateCommandTest.PhoneBlurToneCurveAndSharpeningMeetTheBar.)
+TEST(SceneRenderer, LocalToneLiftsShadowsWithASmoothGain) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  RenderOptions options = Clean(2.0);
+  options.sixteen_bit = true;  // the gain, not the codes' rounding
+  const SceneRenderer plain_renderer(plan, options);
+  options.local_tone = 0.5;
+  ASSERT_FALSE(options.Problem().has_value());
+  const SceneRenderer renderer(plan, options);
+  const Eigen::Vector2d x(0.3719, -0.6024);
+  // Each frame's light, 8-bit levels.
+  const auto light = [&](const SceneRenderer& r) {
+    const cv::Mat codes = r.Render({x}, 0);
+    cv::Mat out(codes.size(), CV_32FC3);
+    out.forEach<cv::Vec3f>([&](cv::Vec3f& l, const int* at) {
+      const cv::Vec3w& c = codes.at<cv::Vec3w>(at[0], at[1]);
+      for (int i = 0; i < 3; ++i) l[i] = Light(c[i] / 257.0);
+    });
+    return out;
+  };
+  const cv::Mat toned = light(renderer), plain = light(plain_renderer);
+  // The gain, green channel, where the light is neither black nor clipped.
+  cv::Mat gain(toned.size(), CV_64F, cv::Scalar(0.0));
+  for (int v = 0; v < toned.rows; ++v) {
+    for (int u = 0; u < toned.cols; ++u) {
+      const double before = plain.at<cv::Vec3f>(v, u)[1];
+      if (before > 5.0 && before < 250.0) {
+        gain.at<double>(v, u) = toned.at<cv::Vec3f>(v, u)[1] / before;
+      }
+    }
+  }
+  double lowest = 1e9, highest = 0.0, steepest = 0.0;
+  for (int v = 0; v < gain.rows; ++v) {
+    for (int u = 0; u + 1 < gain.cols; ++u) {
+      const double g = gain.at<double>(v, u), next = gain.at<double>(v, u + 1);
+      if (g == 0.0) continue;
+      lowest = std::min(lowest, g);
+      highest = std::max(highest, g);
+      if (next != 0.0) steepest = std::max(steepest, std::abs(next / g - 1));
+    }
+  }
+  EXPECT_GT(highest / lowest, 1.3);  // it does lift and dim
+  EXPECT_LT(steepest, 0.005);        // smoothly, under 0.5 % per pixel
+  options.local_tone = 1.5;
+  EXPECT_EQ(options.Problem(), "local tone mapping strength must be 0..1");
 }
 
 // A rolling shutter's frame: each row seen after its own camera motion, so
