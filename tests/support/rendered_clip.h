@@ -17,6 +17,19 @@ RenderCommandOptions QuickRenderOptions(const ScratchDirectory& scratch,
 // Renders `options`; a render that fails is the test's failure.
 void RenderClip(const RenderCommandOptions& options);
 
+// RenderClip for a suite whose every test needs the same clip. ctest runs
+// each test in a process of its own, so a suite's SetUpTestSuite would
+// render once per test (minutes each under AddressSanitizer). Instead the
+// first process renders into a folder of the build named `name` and the
+// test program's size and time, under a lock (ctest's parallel jobs wait
+// rather than render twice), and every process copies the video, truth and
+// rendered plan from there to `options`' paths. A rebuilt test program
+// renders afresh, so a changed renderer is never hidden behind an old clip.
+// The plan must name its mechanism, not a file beside it: the rendered plan
+// is copied, not rewritten for its new folder.
+void RenderSharedClip(const RenderCommandOptions& options,
+                      const std::string& name);
+
 }  // namespace softbench
 
 #endif  // SOFTBENCH_TESTS_SUPPORT_RENDERED_CLIP_H_

@@ -35,11 +35,11 @@ tests:
 
 class TrackCommandTest : public ::testing::Test {
  protected:
-  // One 5 s 720p clip for every test of the suite, in a scratch folder of
-  // the suite's own.
+  // One 5 s 720p clip for every test of the suite (rendered once for all
+  // their processes), in a scratch folder of the suite's own.
   static void SetUpTestSuite() {
     scratch_ = new ScratchDirectory();
-    RenderClip(QuickRenderOptions(*scratch_, kPlan));
+    RenderSharedClip(QuickRenderOptions(*scratch_, kPlan), "track_suite");
   }
   static void TearDownTestSuite() {
     delete scratch_;

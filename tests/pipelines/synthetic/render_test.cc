@@ -453,7 +453,7 @@ TEST(SceneRenderer, LensBlurSoftensTheImageButMovesNothing) {
 // Local tone mapping (render --local-tone) lifts the dark table and dims
 // the white tag by a gain that varies smoothly, by under 0.5 % between
 // neighbouring pixels. (What it does to the measurement is measured end to
-// end: ValidateCommandTest.PhoneBlurToneCurveAndSharpeningMeetTheBar.)
+// end by scripts/phone_pipeline_footage.sh: docs/measurement.md.)
 TEST(SceneRenderer, LocalToneLiftsShadowsWithASmoothGain) {
   const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
   RenderOptions options = Clean(2.0);
@@ -535,7 +535,8 @@ TEST(SceneRenderer, RollingShutterMovesEachRowByItsOwnMotion) {
 // down by area (with and without its Bayer filter): the video's frame
 // still has the dots and the tag where the video camera's truth says. (With
 // the Bayer filter at the video's own size, the harder case, the end-to-end
-// tests measure it: ValidateCommandTest.PhoneBlurToneCurveAndSharpening.)
+// tests measure it:
+// ValidateCommandTest.PhoneBayerBlurCurveAndSharpeningMeetTheBar.)
 TEST(SceneRenderer, ASensorFinerThanTheVideoSeesTheSameGeometry) {
   const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
   for (const Demosaic demosaic : {Demosaic::kNone, Demosaic::kBilinear}) {
