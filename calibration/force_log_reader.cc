@@ -75,21 +75,24 @@ class LogRowParser {
   Row Next() {
     if (!reader_.ReadRow(&fields_)) return Row::kEnd;
     if (++rows_since_report_ == kProgressEveryRows) ReportBytes();
-    const std::optional<double> time = Number(time_, "time");
-    const std::optional<double> pressure = Number(pressure_, "pressure");
-    const std::optional<double> axial = Number(axial_, "axial force");
-    const std::optional<double> shear = Number(shear_, "shear force");
-    if (!time || !pressure || !axial || !shear) return Row::kSkipped;
-    pressure_mpa = *pressure * columns_.mpa_per_unit;
-    axial_n = columns_.axial_sign * *axial;
-    shear_n = columns_.shear_sign * *shear;
+    double time = 0.0, pressure = 0.0, axial = 0.0, shear = 0.0;
+    // Each is checked, so a row with several bad fields names the first.
+    if (!Number(time_, "time", &time) ||
+        !Number(pressure_, "pressure", &pressure) ||
+        !Number(axial_, "axial force", &axial) ||
+        !Number(shear_, "shear force", &shear)) {
+      return Row::kSkipped;
+    }
+    pressure_mpa = pressure * columns_.mpa_per_unit;
+    axial_n = columns_.axial_sign * axial;
+    shear_n = columns_.shear_sign * shear;
     if (pressure_mpa < options_.min_pressure_mpa ||
         pressure_mpa > options_.max_pressure_mpa) {
       return Skip(fmt::format(
           "pressure {} is outside {:.4g} .. {:.4g} in the log's unit (is the "
           "manifest's pressure_unit, or --pressure-unit, the unit the log "
           "is in?)",
-          *pressure, options_.min_pressure_mpa / columns_.mpa_per_unit,
+          pressure, options_.min_pressure_mpa / columns_.mpa_per_unit,
           options_.max_pressure_mpa / columns_.mpa_per_unit));
     }
     if (std::abs(axial_n) > options_.max_abs_force_n ||
@@ -97,7 +100,7 @@ class LogRowParser {
       return Skip(fmt::format("a force beyond +-{} N (the sensor's range)",
                               options_.max_abs_force_n));
     }
-    time_s = *time;
+    time_s = time;
     ++summary_->rows;
     return Row::kValid;
   }
@@ -129,11 +132,12 @@ class LogRowParser {
   double shear_n = 0.0;
 
  private:
-  std::optional<double> Number(int column, std::string_view what) {
-    const std::optional<double> value = ParseDouble(fields_[column]);
-    if (value && std::isfinite(*value)) return value;
+  bool Number(int column, std::string_view what, double* value) {
+    if (ParseDouble(fields_[column], value) && std::isfinite(*value)) {
+      return true;
+    }
     Skip(fmt::format("{} '{}' is not a finite number", what, fields_[column]));
-    return std::nullopt;
+    return false;
   }
 
   Row Skip(const std::string& why) {

@@ -4,7 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "util/input_error.h"
 #include "util/input_file.h"
@@ -12,24 +17,46 @@
 namespace softbench {
 namespace {
 
+bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+// Written out rather than find_first_not_of, which searches the set of blanks
+// once per character: trimming every field of a 24-million-row log is hot.
 std::string_view Trim(std::string_view text) {
-  const size_t begin = text.find_first_not_of(" \t\r");
-  if (begin == std::string_view::npos) return {};
-  const size_t end = text.find_last_not_of(" \t\r");
-  return text.substr(begin, end - begin + 1);
+  const char* begin = text.data();
+  const char* end = begin + text.size();
+  while (begin != end && IsBlank(*begin)) ++begin;
+  while (end != begin && IsBlank(end[-1])) --end;
+  return {begin, static_cast<size_t>(end - begin)};
 }
 
-// Views of the `separator`-separated fields of `line`, trimmed.
+// Views of the `separator`-separated fields of `line`, trimmed. The
+// separators are found 16 bytes at a time (SSE2, in every x86-64 CPU): on a
+// log's short numbers a search per field, or a branch per byte, costs more
+// than the number's parse.
 void SplitOn(std::string_view line, char separator,
              std::vector<std::string_view>* fields) {
   fields->clear();
-  size_t start = 0;
-  for (;;) {
-    const size_t end = line.find(separator, start);
-    fields->push_back(Trim(line.substr(start, end - start)));
-    if (end == std::string_view::npos) break;
-    start = end + 1;
+  const char* start = line.data();
+  const char* const end = start + line.size();
+  const char* p = start;
+  const auto field_until = [&](const char* separator_at) {
+    fields->push_back(Trim({start, static_cast<size_t>(separator_at - start)}));
+    start = separator_at + 1;
+  };
+#if defined(__SSE2__)
+  const __m128i separators = _mm_set1_epi8(separator);
+  for (; end - p >= 16; p += 16) {
+    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+    auto mask = static_cast<uint32_t>(
+        _mm_movemask_epi8(_mm_cmpeq_epi8(bytes, separators)));
+    for (; mask != 0; mask &= mask - 1) field_until(p + std::countr_zero(mask));
   }
+#endif
+  while (const void* hit = std::memchr(p, separator, end - p)) {
+    p = static_cast<const char*>(hit);
+    field_until(p++);
+  }
+  fields->push_back(Trim({start, static_cast<size_t>(end - start)}));
 }
 
 // The header's separator: ',' unless it has none and has ';' or tabs
@@ -63,16 +90,18 @@ bool IsDecimalCommaNumber(std::string_view field) {
 
 }  // namespace
 
-std::optional<double> ParseDouble(std::string_view text) {
+bool ParseDouble(std::string_view text, double* value) {
   text = Trim(text);
-  if (text.empty()) return std::nullopt;
+  if (text.empty()) return false;
   if (text.front() == '+') text.remove_prefix(1);  // fast_float rejects '+'
-  double value = 0.0;
   const auto result =
-      fast_float::from_chars(text.data(), text.data() + text.size(), value);
-  if (result.ec != std::errc() || result.ptr != text.data() + text.size()) {
-    return std::nullopt;
-  }
+      fast_float::from_chars(text.data(), text.data() + text.size(), *value);
+  return result.ec == std::errc() && result.ptr == text.data() + text.size();
+}
+
+std::optional<double> ParseDouble(std::string_view text) {
+  double value = 0.0;
+  if (!ParseDouble(text, &value)) return std::nullopt;
   return value;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "tests/support/input_error_matchers.h"
 #include "tests/support/scratch_directory.h"
@@ -14,7 +15,7 @@ namespace softbench {
 namespace {
 
 std::string WriteTemp(const std::string& name, const std::string& text) {
-  const std::string path = (TestScratch().dir() / name).string();
+  std::string path = (TestScratch().dir() / name).string();
   std::ofstream(path) << text;
   return path;
 }
@@ -28,6 +29,42 @@ TEST(ParseDouble, AcceptsWholeNumbersOnly) {
   EXPECT_FALSE(ParseDouble("abc").has_value());
   EXPECT_FALSE(ParseDouble("1,5").has_value());
   EXPECT_TRUE(std::isnan(*ParseDouble("nan")));
+  double value = 0.0;
+  EXPECT_TRUE(ParseDouble(" 0.000175", &value));
+  EXPECT_EQ(value, 0.000175);
+  EXPECT_FALSE(ParseDouble("0.5x", &value));
+}
+
+// The splitter finds separators 16 bytes at a time and the rest one search at
+// a time; lines of every length, with separators at every place in and
+// across those blocks (both ends, doubled, padded with blanks), must split as
+// the plain definition says: text between separators, trimmed.
+TEST(SplitCsvLine, AgreesWithThePlainDefinitionOnRandomLines) {
+  std::mt19937 random(7);
+  const std::string alphabet = ",,, \t0123456789.-e";
+  std::vector<std::string_view> fields;
+  for (int trial = 0; trial < 4000; ++trial) {
+    std::string line(random() % 70, ' ');
+    for (char& c : line) c = alphabet[random() % alphabet.size()];
+    std::vector<std::string> expected(1);
+    for (char c : line) {
+      if (c == ',') {
+        expected.emplace_back();
+      } else {
+        expected.back() += c;
+      }
+    }
+    for (std::string& field : expected) {
+      const size_t begin = field.find_first_not_of(" \t");
+      field =
+          begin == std::string::npos
+              ? ""
+              : field.substr(begin, field.find_last_not_of(" \t") - begin + 1);
+    }
+    SplitCsvLine(line, &fields);
+    ASSERT_EQ(std::vector<std::string>(fields.begin(), fields.end()), expected)
+        << "line '" << line << "'";
+  }
 }
 
 TEST(CsvReader, SkipsCommentsAndBlankLinesAndCountsLines) {
