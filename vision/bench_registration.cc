@@ -91,15 +91,16 @@ BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
   }
 }
 
-Eigen::Vector2d BenchRegistration::Predict(const CameraMotion& motion,
-                                           const Eigen::Vector3d& ray) const {
-  const Eigen::Vector3d n = motion.CurrentFromReference() * ray;
+Eigen::Vector2d BenchRegistration::Predict(
+    const Eigen::Matrix3d& current_from_reference,
+    const Eigen::Vector3d& ray) const {
+  const Eigen::Vector3d n = current_from_reference * ray;
   return camera_.Distort(n.head<2>() / n.z());
 }
 
-Eigen::Vector2d BenchRegistration::Misfit(const CameraMotion& motion,
-                                          const Point& p) const {
-  Eigen::Vector2d d = Predict(motion, p.ray) - p.pixel;
+Eigen::Vector2d BenchRegistration::Misfit(
+    const Eigen::Matrix3d& current_from_reference, const Point& p) const {
+  Eigen::Vector2d d = Predict(current_from_reference, p.ray) - p.pixel;
   if (p.normal == Eigen::Vector2d::Zero()) return d;
   return {p.normal.dot(d), 0.0};
 }
@@ -117,9 +118,11 @@ double BenchRegistration::FitMotion(const std::vector<Point>& points,
     CameraMotion m;
     m.rotation_rad = p.head<3>();
     m.scale = std::exp(p[3]);
+    const Eigen::Matrix3d current_from_reference = m.CurrentFromReference();
     Eigen::VectorXd r(2 * points.size());
     for (size_t i = 0; i < points.size(); ++i) {
-      r.segment<2>(2 * i) = std::sqrt(weights[i]) * Misfit(m, points[i]);
+      r.segment<2>(2 * i) =
+          std::sqrt(weights[i]) * Misfit(current_from_reference, points[i]);
     }
     return r;
   };
@@ -188,9 +191,10 @@ std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::FindTag(
 
 std::vector<double> BenchRegistration::MedianMotionWeights(
     const std::vector<Point>& points, const CameraMotion& motion) const {
+  const Eigen::Matrix3d current_from_reference = motion.CurrentFromReference();
   std::vector<double> dx, dy;
   for (const Point& p : points) {
-    const Eigen::Vector2d d = -Misfit(motion, p);
+    const Eigen::Vector2d d = -Misfit(current_from_reference, p);
     dx.push_back(d.x());
     dy.push_back(d.y());
   }
@@ -212,8 +216,10 @@ double BenchRegistration::FitWithinGates(const std::vector<Point>& points,
   double rms = 0.0;
   for (const double gate : {kStartGatePx, options_.outlier_px}) {
     bool tag_kept = true;
+    const Eigen::Matrix3d current_from_reference =
+        motion->CurrentFromReference();
     for (size_t i = 0; i < points.size(); ++i) {
-      const double r = Misfit(*motion, points[i]).norm();
+      const double r = Misfit(current_from_reference, points[i]).norm();
       (*weights)[i] = r <= gate ? 1.0 : 0.0;
       if (points[i].tag_corner && (*weights)[i] == 0.0) tag_kept = false;
     }
@@ -247,9 +253,10 @@ FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
     }
     FitMotion(points, std::vector<double>(4, 1.0), 2, &motion);
   }
+  const Eigen::Matrix3d current_from_reference = motion.CurrentFromReference();
   std::vector<Eigen::Vector2d> predicted;
   for (const Eigen::Vector3d& ray : patch_rays_) {
-    predicted.push_back(Predict(motion, ray));
+    predicted.push_back(Predict(current_from_reference, ray));
   }
   int patches_found = 0;
   for (const PatchMatch& m : patches_.Track(luma, predicted)) {

@@ -102,8 +102,11 @@ class BenchRegistration {
     // An edge patch's normal: only the misfit along it counts.
     Eigen::Vector2d normal = Eigen::Vector2d::Zero();
   };
-  // The misfit of a point to a motion [px] (along an edge's normal).
-  Eigen::Vector2d Misfit(const CameraMotion& motion, const Point& p) const;
+  // The misfit of a point to a motion [px] (along an edge's normal), the
+  // motion given as its CurrentFromReference(): built once per fit step,
+  // not once per point.
+  Eigen::Vector2d Misfit(const Eigen::Matrix3d& current_from_reference,
+                         const Point& p) const;
   // The tag's corners now, if they can be found.
   std::optional<std::array<Eigen::Vector2d, 4>> FindTag(const cv::Mat& luma);
   // The corners found from `start`, re-fitted until they settle.
@@ -114,7 +117,7 @@ class BenchRegistration {
   double FitMotion(const std::vector<Point>& points,
                    const std::vector<double>& weights, int parameters,
                    CameraMotion* motion) const;
-  Eigen::Vector2d Predict(const CameraMotion& motion,
+  Eigen::Vector2d Predict(const Eigen::Matrix3d& current_from_reference,
                           const Eigen::Vector3d& ray) const;
   // A robust start without the tag: weight 1 for the points that moved
   // with the median since `motion` (a bump moves them all alike; a moving
