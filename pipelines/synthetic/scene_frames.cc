@@ -95,8 +95,8 @@ void ApplyLocalTone(double strength, cv::Mat* light) {
   // The luma's log on a coarse grid: the phone's tone map is computed small
   // and applied through interpolation, so it varies smoothly and follows
   // the scene's content frame by frame.
-  const int cells_down = 32;
-  const int cell = std::max(1, light->rows / cells_down);
+  constexpr int kCellsDown = 32;
+  const int cell = std::max(1, light->rows / kCellsDown);
   cv::Mat luma;
   cv::transform(*light, luma, cv::Matx13f(0.0722f, 0.7152f, 0.2126f));
   cv::Mat coarse;
