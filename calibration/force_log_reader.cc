@@ -76,7 +76,8 @@ class LogRowParser {
     if (!reader_.ReadRow(&fields_)) return Row::kEnd;
     if (++rows_since_report_ == kProgressEveryRows) ReportBytes();
     double time = 0.0, pressure = 0.0, axial = 0.0, shear = 0.0;
-    // Each is checked, so a row with several bad fields names the first.
+    // In order, stopping at the first that fails: the row is skipped once,
+    // named by its first bad field (as when all four were parsed).
     if (!Number(time_, "time", &time) ||
         !Number(pressure_, "pressure", &pressure) ||
         !Number(axial_, "axial force", &axial) ||
