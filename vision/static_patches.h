@@ -84,17 +84,26 @@ class StaticPatches {
   struct Template {
     Eigen::Vector2d centre;
     Eigen::Vector2d normal = Eigen::Vector2d::Zero();  // edge patches
-    cv::Mat values, dx, dy;                            // CV_32FC1, (2 h + 1)^2
-    double contrast = 0.0;                             // RMS about the mean
+    // Row by row, (2 h + 1)^2 each: the template's linear light and the
+    // shift part of the residual's unit-gain Jacobian, its slope in x and y
+    // (for an edge: across it in slope_x, zero in slope_y). Flat float
+    // arrays, so the sums over a patch are vectorised.
+    std::vector<float> values, slope_x, slope_y;
+    double contrast = 0.0;  // RMS about the mean
     // The alignment's normal matrix at unit gain, the sum of j j^T over the
     // patch (Jacobian): a change of gain only scales it, so it is summed
     // once.
     Eigen::Matrix4d normal_matrix = Eigen::Matrix4d::Identity();
   };
-  bool Align(const cv::Mat& luma, const Template& t,
+  // Buffers Align reuses from patch to patch.
+  struct Scratch {
+    std::vector<float> light;     // the (2 h + 2)^2 pixels under a patch
+    std::vector<float> residual;  // (2 h + 1)^2
+  };
+  bool Align(const cv::Mat& luma, const Template& t, Scratch* scratch,
              Eigen::Vector2d* centre) const;
-  // The unit-gain Jacobian of the residual at template pixel (u, v).
-  static Eigen::Vector4d Jacobian(const Template& t, int u, int v);
+  // The unit-gain Jacobian of the residual at template pixel i (row-major).
+  static Eigen::Vector4d Jacobian(const Template& t, int i);
 
   StaticPatchOptions options_;
   std::vector<Template> templates_;
