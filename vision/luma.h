@@ -45,15 +45,6 @@ double SampleLuma(const cv::Mat& luma, double u, double v) {
                             [](T code) { return kLevelsPerCode<T> * code; });
 }
 
-// SampleLuma of the luma's linear light: each of the four pixels through
-// `linear` (LinearLumaTable, vision/color_transfer.h) before interpolating,
-// as a pixel's light, not its code, is what mixes across an edge.
-template <typename T>
-double SampleLinearLuma(const cv::Mat& luma, const std::vector<float>& linear,
-                        double u, double v) {
-  return InterpolateLuma<T>(luma, u, v, [&](T code) { return linear[code]; });
-}
-
 // Luma as 8 bits (a view when it is already), for detectors that take only
 // 8 bits (libapriltag's quads, OpenCV's checkerboard finder); measurement
 // refines on the full-precision luma afterwards.
