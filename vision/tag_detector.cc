@@ -54,9 +54,7 @@ LinearRegion LinearRegionAround(const cv::Mat& gray,
   const cv::Rect box =
       BoxAround({corners.begin(), corners.end()}, reach_px + 2, gray.size());
   if (box.empty()) return {};
-  LinearRegion region{{}, box.tl()};
-  LinearLumaAsFloat(gray(box), linear).convertTo(region.light, CV_64F);
-  return region;
+  return {LinearLuma(gray(box), linear, CV_64F), box.tl()};
 }
 
 // A profile across an edge: samples every kStep at offsets s from -d to d

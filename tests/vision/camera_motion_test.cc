@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "vision/camera_path.h"
 #include "vision/color_transfer.h"
@@ -249,6 +250,49 @@ TEST(StaticPatches, TakeNoneFromWeakTextureOrOutsideTheMask) {
   const cv::Mat scene = Scene(Eigen::Vector2d::Zero());
   EXPECT_EQ(StaticPatches(scene, cv::Mat::zeros(scene.size(), CV_8UC1)).size(),
             0);
+}
+
+// The structure tensor is summed band by band of cells, not over the whole
+// frame at once; every sum is exact, so each patch is still its cell's
+// strongest point by the whole frame's sums, near the bands' edges too (a
+// band that read its neighbours' rows as a border would not be).
+TEST(StaticPatches, TakeEachCellsStrongestPointOfTheWholeFrame) {
+  for (const int depth : {CV_8U, CV_16U}) {
+    cv::Mat texture(480, 640, CV_32F);
+    cv::RNG(11).fill(texture, cv::RNG::NORMAL, 0.5, 1.0);
+    cv::GaussianBlur(texture, texture, {0, 0}, 1.2);
+    cv::Mat luma;
+    texture.convertTo(luma, depth, depth == CV_8U ? 255.0 : 65535.0);
+    StaticPatchOptions options;
+    options.max_patches = 1000;
+    const StaticPatches patches(luma, cv::Mat(), options);
+    // The whole frame's sums, in 8-bit levels.
+    cv::Mat image, gx, gy, xx, yy;
+    luma.convertTo(image, CV_32F, depth == CV_16U ? 1.0 / 256.0 : 1.0);
+    cv::Sobel(image, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(image, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+    const int h = options.half_size_px, side = 2 * h + 1, border = 2 * h + 8;
+    const int cell = static_cast<int>(options.cell_px);
+    cv::boxFilter(gx.mul(gx), xx, CV_32F, {side, side}, {-1, -1}, false);
+    cv::boxFilter(gy.mul(gy), yy, CV_32F, {side, side}, {-1, -1}, false);
+    const cv::Mat strength = xx + yy;
+    ASSERT_GT(patches.size(), 40);
+    int near_band_edge = 0;
+    for (const Eigen::Vector2d& centre : patches.reference_px()) {
+      const int u = static_cast<int>(centre.x()),
+                v = static_cast<int>(centre.y());
+      const int x0 = border + (u - border) / cell * cell;
+      const int y0 = border + (v - border) / cell * cell;
+      double strongest = 0.0;
+      cv::Point at;
+      cv::minMaxLoc(strength(cv::Rect(x0, y0, cell, cell)), nullptr, &strongest,
+                    nullptr, &at);
+      EXPECT_EQ(cv::Point(u - x0, v - y0), at)
+          << depth << " " << centre.transpose();
+      near_band_edge += (v - y0 < h || y0 + cell - 1 - v < h);
+    }
+    EXPECT_GT(near_band_edge, 5);
+  }
 }
 
 TEST(StaticPatches, LoseAPatchThatIsCovered) {
