@@ -1,4 +1,5 @@
-// Video benchmarks: render speed at 1080p and 4K, and, on the files named
+// Video benchmarks: render speed at 1080p and 4K, the choice of static
+// patches on the samples' first frames, and, on the files named
 // after "--" (made by bench/run_video_bench.sh, which also times ffmpeg and
 // the Python/OpenCV peer on the same files), decode speed of VideoReader and
 // measurement speed (region tracking, full-frame detection).
@@ -13,6 +14,7 @@
 #include "pipelines/synthetic/scene_renderer.h"
 #include "vision/frame_source.h"
 #include "vision/head_tracker.h"
+#include "vision/static_patches.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -48,6 +50,31 @@ BENCHMARK_CAPTURE(BM_RenderFrame, 1080p_moving, cv::Size(1920, 1080), true)
 BENCHMARK_CAPTURE(BM_RenderFrame, 4k_still, cv::Size(3840, 2160), false)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// Chooses the static patches in a sample's first frame, as registration does
+// once per video before its first frame (serially, with the decoder
+// waiting).
+void BM_ChooseStaticPatches(benchmark::State& state, const std::string& name) {
+  VideoReaderOptions options;
+  options.want_bgr = false;
+  VideoReader reader(std::string(SOFTBENCH_SOURCE_DIR) + "/samples/" + name +
+                         "/" + name + ".mp4",
+                     options);
+  VideoFrame frame;
+  reader.Read(&frame);
+  const cv::Mat luma = frame.luma.clone();
+  StaticPatchOptions patch_options;
+  patch_options.luma_encoding = reader.info().luma_encoding();
+  int patches = 0;
+  for (auto _ : state) {
+    patches = StaticPatches(luma, cv::Mat(), patch_options).size();
+  }
+  state.counters["patches"] = patches;
+}
+BENCHMARK_CAPTURE(BM_ChooseStaticPatches, delta, std::string("delta"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ChooseStaticPatches, phone, std::string("phone"))
+    ->Unit(benchmark::kMillisecond);
 
 // Decodes the whole file: decode only (Skip), or with the luma plane each
 // later stage reads.
