@@ -3,22 +3,34 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <utility>
 
 namespace softbench {
 
-const FrameSample* FindFrame(const VideoMeasurement& measurement,
-                             double time_s) {
-  const std::vector<FrameSample>& frames = measurement.frames;
-  const auto it = std::lower_bound(
-      frames.begin(), frames.end(), time_s,
-      [](const FrameSample& f, double t) { return f.time_s < t; });
-  const FrameSample* nearest = nullptr;
-  if (it != frames.end()) nearest = &*it;
-  if (it != frames.begin() &&
+namespace {
+
+// The item nearest `time_s` of items in time order (frames or snapshots),
+// or null when there are none.
+template <typename T>
+const T* NearestInTime(const std::vector<T>& items, double time_s) {
+  const auto it =
+      std::lower_bound(items.begin(), items.end(), time_s,
+                       [](const T& item, double t) { return item.time_s < t; });
+  const T* nearest = nullptr;
+  if (it != items.end()) nearest = &*it;
+  if (it != items.begin() &&
       (nearest == nullptr ||
        time_s - std::prev(it)->time_s < nearest->time_s - time_s)) {
     nearest = &*std::prev(it);
   }
+  return nearest;
+}
+
+}  // namespace
+
+const FrameSample* FindFrame(const VideoMeasurement& measurement,
+                             double time_s) {
+  const FrameSample* nearest = NearestInTime(measurement.frames, time_s);
   return nearest != nullptr && std::abs(nearest->time_s - time_s) <=
                                    measurement.frame_interval_s + 1e-9
              ? nearest
@@ -50,12 +62,21 @@ FrameSnapshot SnapshotHeads(const FrameSource& frame, const FrameSample& sample,
 }
 
 void CaptureSnapshots(const TestPlan& plan, const std::vector<double>& times_s,
-                      VideoReader* reader, VideoMeasurement* measurement) {
+                      double max_offset_s, VideoReader* reader,
+                      VideoMeasurement* measurement) {
   std::vector<double> times = times_s;
   std::sort(times.begin(), times.end());
+  const std::vector<FrameSnapshot> kept =
+      std::exchange(measurement->window_frames, {});
   for (double t : times) {
     const FrameSample* sample = FindFrame(*measurement, t);
     if (sample == nullptr) continue;  // not measured: nothing to annotate
+    const FrameSnapshot* nearest = NearestInTime(kept, t);
+    if (nearest != nullptr && std::abs(nearest->time_s - t) <= max_offset_s) {
+      measurement->snapshots.push_back(*nearest);
+      measurement->snapshots.back().requested_s = t;
+      continue;
+    }
     const VideoFrame frame = reader->SeekTo(sample->time_s);
     measurement->snapshots.push_back(
         SnapshotHeads(VideoFrameSource(reader, &frame), *sample, plan,

@@ -22,12 +22,15 @@ FrameSnapshot SnapshotHeads(const FrameSource& frame, const FrameSample& sample,
                             const TestPlan& plan, double mm_per_px,
                             double requested_s);
 
-// Adds the snapshots at `times_s` to a finished measurement, seeking
-// `reader` (the measurement's own) to their frames (used when the times
-// were known only after measuring: test points found from the motion or a
-// pressure log).
+// Adds the snapshots at `times_s` to a finished measurement (used when the
+// times were known only after measuring: test points found from the motion
+// or a pressure log): each from the crops kept on the way
+// (measurement->window_frames, then dropped) when one is within
+// `max_offset_s` of it, else by seeking `reader` (the measurement's own) to
+// its frame.
 void CaptureSnapshots(const TestPlan& plan, const std::vector<double>& times_s,
-                      VideoReader* reader, VideoMeasurement* measurement);
+                      double max_offset_s, VideoReader* reader,
+                      VideoMeasurement* measurement);
 
 }  // namespace softbench
 

@@ -19,6 +19,7 @@
 #include "pipelines/formats/test_plan.h"
 #include "pipelines/measurement/snapshots.h"
 #include "pipelines/measurement/video_measurement.h"
+#include "pipelines/measurement/window_frames.h"
 #include "util/input_error.h"
 #include "vision/bench_registration.h"
 #include "vision/frame_source.h"
@@ -79,6 +80,11 @@ class SpanMeasurer {
   // Throw InputError when the first frame measured lacks a dot: it is the
   // heads' reference.
   void RequireCompleteFirstFrame() { first_frame_complete_ = true; }
+  // Keep the crops that may turn out to be the windows' middles
+  // (window_frames.h), for a run through every frame.
+  void KeepWindowFrames(const WindowFrameKeeperOptions& options) {
+    window_frames_.emplace(options);
+  }
 
   // How a span's first frame is found.
   enum class Start {
@@ -140,6 +146,12 @@ class SpanMeasurer {
         sample.heads.push_back({std::move(obs), {}, {}});
       }
       full_frame_frames_ += full;
+      if (window_frames_) {
+        window_frames_->Offer(sample, [&] {
+          return SnapshotHeads(source, sample, *plan_, mm_per_px_,
+                               sample.time_s);
+        });
+      }
       for (; next_snapshot != snapshot_times_->end() &&
              frame.time_s >= next_snapshot->frame_s - kSameFrameS;
            ++next_snapshot) {
@@ -152,6 +164,7 @@ class SpanMeasurer {
       ++*frames_done_;
       poll();
     } while (reader_->Read(&frame));
+    if (window_frames_) window_frames_->Finish();
   }
 
   // Appends what was measured (later spans than `m` holds) to `m`.
@@ -159,6 +172,7 @@ class SpanMeasurer {
     std::move(frames_.begin(), frames_.end(), std::back_inserter(m->frames));
     std::move(snapshots_.begin(), snapshots_.end(),
               std::back_inserter(m->snapshots));
+    if (window_frames_) m->window_frames = window_frames_->TakeKept();
     m->missing_dots += missing_dots_;
     m->rejected_blobs += rejected_blobs_;
     m->full_frame_frames += full_frame_frames_;
@@ -224,6 +238,7 @@ class SpanMeasurer {
   int damaged_frames_ = 0;
   std::string unregistered_reason_;
   bool first_frame_complete_ = false;
+  std::optional<WindowFrameKeeper> window_frames_;
 };
 
 }  // namespace softbench

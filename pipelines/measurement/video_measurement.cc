@@ -24,6 +24,11 @@ std::optional<std::string> VideoMeasurementOptions::Problem() const {
   if (!(rest_s > 0.0)) return "rest_s must be > 0";
   if (auto problem = registration.Problem()) return problem;
   if (auto problem = camera_path.Problem()) return problem;
+  if (window_frames) {
+    if (auto problem = window_frames->Problem()) {
+      return "window_frames: " + *problem;
+    }
+  }
   return tracker.Problem();
 }
 
@@ -382,6 +387,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   };
   measurers.push_back(make(reader));
   measurers.front().RequireCompleteFirstFrame();
+  if (options.window_frames && m.every_frame) {
+    measurers.front().KeepWindowFrames(*options.window_frames);
+  }
   m.registers_frames = registrations.reference.has_value();
   m.registration = m.registers_frames
                        ? RegistrationMethod(plan, *registrations.reference,

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "pipelines/formats/test_plan.h"
+#include "pipelines/measurement/frame_sample.h"
+#include "pipelines/measurement/window_frames.h"
 #include "vision/bench_registration.h"
 #include "vision/camera_path.h"
 #include "vision/head_tracker.h"
@@ -40,50 +42,13 @@ struct VideoMeasurementOptions {
   std::vector<TimeSpan> spans;
   // Times whose frames' head crops are kept (for the report's pictures).
   std::vector<double> snapshot_times_s;
+  // With the test times not yet known (found from the motion afterwards):
+  // the crops that may turn out to be the windows' middles are kept on the
+  // way (window_frames.h) instead of sought afterwards; empty: none kept.
+  std::optional<WindowFrameKeeperOptions> window_frames;
   bool progress = true;
 
   std::optional<std::string> Problem() const;
-};
-
-// One head in one frame.
-struct HeadSample {
-  HeadObservation observation;
-  // Displacement from the head's rest position [mm] (NaN when no dot was
-  // found), from the luma-refined centres and from the thesis's binary ones.
-  Eigen::Vector2d displacement_mm;
-  Eigen::Vector2d binary_displacement_mm;
-};
-
-struct FrameSample {
-  int64_t frame = 0;
-  double time_s = 0.0;
-  std::vector<HeadSample> heads;  // in the plan's head order
-  // The frame's registration to the bench: false when the tag could not be
-  // located (the heads are then not measured in this frame: never against a
-  // stale registration). The camera's shift since the reference frames is
-  // that of the content at the principal point [px]; roll clockwise [rad].
-  bool registered = true;
-  // The decoder reported errors in this frame (damaged video data): its
-  // heads are not measured.
-  bool damaged = false;
-  CameraMotion camera_motion;  // the camera's path (SmoothCameraPath)
-  Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Zero();
-  double camera_roll_rad = 0.0;
-  // The tag's corners in this frame, where registration located them.
-  std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
-};
-
-// The heads of one frame, cut out for the report's annotated pictures.
-struct HeadCrop {
-  cv::Mat bgr;                // CV_8UC3
-  Eigen::Vector2d origin_px;  // the crop's top-left corner in the frame
-};
-
-struct FrameSnapshot {
-  double requested_s = 0.0;  // the time asked for
-  int64_t frame = 0;
-  double time_s = 0.0;
-  std::vector<HeadCrop> heads;  // in the plan's head order
 };
 
 // The distortion check without intrinsics: the dots' spacing, measured
@@ -113,7 +78,10 @@ struct VideoMeasurement {
   bool every_frame = true;  // false: only the requested spans were read
   std::optional<PlaneMapping> mapping;
   std::vector<FrameSnapshot> snapshots;  // in time order
-  int missing_dots = 0;                  // dot-frames without a dot
+  // Crops kept for the windows' middles before the times were known
+  // (VideoMeasurementOptions::window_frames), in time order.
+  std::vector<FrameSnapshot> window_frames;
+  int missing_dots = 0;       // dot-frames without a dot
   int full_frame_frames = 0;  // frames that needed a full-image search
   int rejected_blobs = 0;     // same-colour blobs rejected in all frames
   // How frames were registered to the bench ("every frame, by tag 3", or

@@ -65,7 +65,9 @@ void AddCrops(const TestPlan& plan, const VideoMeasurement& m,
   std::map<double, const FrameSnapshot*> by_time;
   for (const FrameSnapshot& s : m.snapshots) by_time[s.requested_s] = &s;
   report->AddParagraph(
-      "The frame in the middle of each window. Rings: the dots' sub-pixel "
+      "The frame in the middle of each window (with the times found from "
+      "the video, one within 0.1 s of it, kept on the way). Rings: the dots' "
+      "sub-pixel "
       "centres (cyan) and the head centre in this frame (green); magenta "
       "cross: "
       "the initial position (initial window's median); on the actuated "

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <future>
@@ -16,6 +17,14 @@
 namespace softbench {
 namespace {
 
+// The stride of the crops kept for the windows' middles while the times are
+// unknown [s], and how far from its window's middle a kept crop may be:
+// three frames at 30 fps, or a quarter of a short window. A middle without
+// one that near is sought.
+double WindowFrameStrideS(const TestPlan& plan) {
+  return std::min(0.1, 0.25 * plan.window_s);
+}
+
 // The measurement's options: with the times known, the windows' crops are
 // kept on the way and, windows only, their frames are all that is read.
 VideoMeasurementOptions MeasurementOptions(
@@ -25,7 +34,11 @@ VideoMeasurementOptions MeasurementOptions(
   measure.progress = options.progress;
   measure.register_frames = options.register_frames;
   measure.rest_s = times_known ? *plan.tests.front().actuate_s : options.rest_s;
-  if (!times_known) return measure;
+  if (!times_known) {
+    measure.window_frames = WindowFrameKeeperOptions{
+        .window_s = plan.window_s, .stride_s = WindowFrameStrideS(plan)};
+    return measure;
+  }
   const auto windows = PlanWindows(plan, reader.info().LastFrameS());
   measure.snapshot_times_s = WindowMiddles(windows);
   if (options.windows_only) {
@@ -152,7 +165,7 @@ VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
   if (!times_known) {
     // The plan has its times now: the windows' crops, from the same reader.
     CaptureSnapshots(plan, WindowMiddles(PlanWindows(plan, m.last_frame_s)),
-                     &reader, &m);
+                     WindowFrameStrideS(plan), &reader, &m);
   }
   return {std::move(plan), std::move(m), std::move(result), inputs.get()};
 }

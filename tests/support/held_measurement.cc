@@ -1,5 +1,7 @@
 #include "tests/support/held_measurement.h"
 
+#include <cmath>
+#include <random>
 #include <vector>
 
 #include "model/equilibrium.h"
@@ -53,6 +55,41 @@ VideoMeasurement HeldMeasurement(const TestPlan& plan, double end_s,
       o.pixel = m.mapping->ToPixel(o.position_mm);
     }
     m.last_frame_s = frame.time_s;
+  }
+  return m;
+}
+
+VideoMeasurement SettlingMeasurement(const std::vector<HeadStep>& steps,
+                                     double end_s, double tau_s,
+                                     double noise_mm) {
+  std::mt19937 random(4);
+  std::normal_distribution<double> normal(0.0, noise_mm);
+  VideoMeasurement m;
+  m.fps = 30.0;
+  m.frame_interval_s = 1.0 / 30.0;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  const double dt = 1.0 / 30.0;
+  for (int frame = 0; frame * dt < end_s; ++frame) {
+    const double t = frame * dt;
+    // The target during the last frame interval: a step at t shows from the
+    // next frame on, as the renderer's continuous settling does.
+    Eigen::Vector2d target = Eigen::Vector2d::Zero();
+    for (const HeadStep& step : steps) {
+      if (t - dt >= step.actuate_s - 1e-9 && t - dt < step.release_s - 1e-9) {
+        target = step.target_mm;
+      }
+    }
+    position += (target - position) * (1.0 - std::exp(-dt / tau_s));
+    FrameSample sample;
+    sample.frame = frame;
+    sample.time_s = t;
+    HeadSample head;
+    head.displacement_mm =
+        position + Eigen::Vector2d(normal(random), normal(random));
+    head.observation.complete = true;
+    head.observation.position_mm = head.displacement_mm;
+    sample.heads.push_back(head);
+    m.frames.push_back(sample);
   }
   return m;
 }

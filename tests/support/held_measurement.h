@@ -1,6 +1,9 @@
 #ifndef SOFTBENCH_TESTS_SUPPORT_HELD_MEASUREMENT_H_
 #define SOFTBENCH_TESTS_SUPPORT_HELD_MEASUREMENT_H_
 
+#include <Eigen/Core>
+#include <vector>
+
 #include "pipelines/formats/test_plan.h"
 #include "pipelines/measurement/video_measurement.h"
 
@@ -16,6 +19,20 @@ namespace softbench {
 // (0.1 when it gives none).
 VideoMeasurement HeldMeasurement(const TestPlan& plan, double end_s,
                                  double after_release_mm);
+
+// A pressure step of one head: toward `target_mm` from actuate_s, back to
+// rest from release_s.
+struct HeadStep {
+  double actuate_s, release_s;
+  Eigen::Vector2d target_mm;
+};
+
+// One head settling first-order (tau) toward each step's target and back,
+// at 30 fps from 0 to `end_s`, with Gaussian measurement noise (fixed seed):
+// each frame's displacement and observed position, every dot found.
+VideoMeasurement SettlingMeasurement(const std::vector<HeadStep>& steps,
+                                     double end_s, double tau_s,
+                                     double noise_mm);
 
 }  // namespace softbench
 

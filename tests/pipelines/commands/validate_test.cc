@@ -12,12 +12,14 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <sstream>
 #include <tuple>
 
 #include "pipelines/commands/predict_command.h"
 #include "pipelines/commands/render_command.h"
 #include "pipelines/commands/validate_command.h"
+#include "pipelines/measurement/snapshots.h"
 #include "pipelines/measurement/test_point_detection.h"
 #include "tests/support/input_error_matchers.h"
 #include "tests/support/rendered_clip.h"
@@ -265,6 +267,46 @@ TEST(ValidateSamples, PhoneFootageIsWrongWithoutRegistration) {
   EXPECT_GT(result.hysteresis_flagged.size(), 1u);
 }
 
+// The report's pictures for the detected times: every window's middle has
+// a crop kept on the way within a stride of it, the same pixels as the
+// crop a seek to its frame cuts, so the video is not decoded again.
+void CheckWindowFrames(const std::string& video_path, TestPlan plan,
+                       const TestPointDetection& d, VideoMeasurement m) {
+  std::set<int64_t> kept_frames;
+  for (const FrameSnapshot& s : m.window_frames) kept_frames.insert(s.frame);
+  const size_t kept = m.window_frames.size();
+  for (size_t i = 0; i < plan.tests.size(); ++i) {
+    plan.tests[i].actuate_s = d.points[i].actuate_s;
+    plan.tests[i].release_s = d.points[i].release_s;
+  }
+  const std::vector<double> middles =
+      WindowMiddles(PlanWindows(plan, m.last_frame_s));
+  EXPECT_LE(kept, 6 * middles.size());
+  std::cout << kept << " crops kept for " << middles.size()
+            << " windows' middles\n";
+  VideoReader reader(video_path);
+  CaptureSnapshots(plan, middles, 0.1, &reader, &m);
+  ASSERT_EQ(m.snapshots.size(), middles.size());
+  EXPECT_TRUE(m.window_frames.empty());
+  for (const FrameSnapshot& s : m.snapshots) {
+    EXPECT_TRUE(kept_frames.count(s.frame)) << "frame " << s.frame;
+    EXPECT_NEAR(s.time_s, s.requested_s, 0.1);
+  }
+  for (size_t i = 0; i < middles.size(); i += 7) {
+    const FrameSnapshot& kept_crop = m.snapshots[i];
+    const VideoFrame frame = reader.SeekTo(kept_crop.time_s);
+    const FrameSnapshot sought = SnapshotHeads(
+        VideoFrameSource(&reader, &frame), *FindFrame(m, kept_crop.time_s),
+        plan, m.mm_per_px, middles[i]);
+    for (size_t h = 0; h < sought.heads.size(); ++h) {
+      EXPECT_EQ(
+          cv::norm(sought.heads[h].bgr, kept_crop.heads[h].bgr, cv::NORM_INF),
+          0.0)
+          << "window middle " << middles[i] << " s, head " << h;
+    }
+  }
+}
+
 // Test points found from the motion for the plans without times match the
 // times the renderer used.
 void CheckDetectedTimes(const std::string& name) {
@@ -275,8 +317,10 @@ void CheckDetectedTimes(const std::string& name) {
   ASSERT_FALSE(plan.HasTimes());
   VideoMeasurementOptions measure;
   measure.progress = false;
-  const VideoMeasurement m =
-      MeasureVideo(plan, dir + "/" + name + ".mp4", measure);
+  measure.window_frames =
+      WindowFrameKeeperOptions{.window_s = plan.window_s, .stride_s = 0.1};
+  const std::string video_path = dir + "/" + name + ".mp4";
+  VideoMeasurement m = MeasureVideo(plan, video_path, measure);
   const TestPointDetection d = DetectTestPoints(
       m, static_cast<int>(plan.tests.size()), TestPointDetectionOptions());
   ASSERT_TRUE(d.found) << d.why_not;
@@ -288,6 +332,7 @@ void CheckDetectedTimes(const std::string& name) {
   }
   EXPECT_LT(worst, 0.2);
   std::cout << name << ": worst detected time error " << worst << " s\n";
+  CheckWindowFrames(video_path, plan, d, std::move(m));
 }
 
 TEST(ValidateSamples, FindsTheDeltaTestPointsFromTheMotion) {

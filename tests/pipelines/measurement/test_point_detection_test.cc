@@ -6,58 +6,23 @@
 #include <random>
 
 #include "pipelines/measurement/pressure_log.h"
+#include "tests/support/held_measurement.h"
 #include "tests/support/input_error_matchers.h"
 #include "util/input_error.h"
 
 namespace softbench {
 namespace {
 
-struct Step {
-  double actuate_s, release_s;
-  Eigen::Vector2d target_mm;
-};
-
-// One head settling first-order (tau) toward each step's target and back,
-// at 30 fps with measurement noise.
-VideoMeasurement Synthetic(const std::vector<Step>& steps, double end_s,
-                           double tau_s, double noise_mm) {
-  std::mt19937 random(4);
-  std::normal_distribution<double> normal(0.0, noise_mm);
-  VideoMeasurement m;
-  Eigen::Vector2d position = Eigen::Vector2d::Zero();
-  const double dt = 1.0 / 30.0;
-  for (int frame = 0; frame * dt < end_s; ++frame) {
-    const double t = frame * dt;
-    // The target during the last frame interval: a step at t shows from the
-    // next frame on, as the renderer's continuous settling does.
-    Eigen::Vector2d target = Eigen::Vector2d::Zero();
-    for (const Step& step : steps) {
-      if (t - dt >= step.actuate_s - 1e-9 && t - dt < step.release_s - 1e-9) {
-        target = step.target_mm;
-      }
-    }
-    position += (target - position) * (1.0 - std::exp(-dt / tau_s));
-    FrameSample sample;
-    sample.frame = frame;
-    sample.time_s = t;
-    HeadSample head;
-    head.displacement_mm =
-        position + Eigen::Vector2d(normal(random), normal(random));
-    sample.heads.push_back(head);
-    m.frames.push_back(sample);
-  }
-  return m;
-}
-
-const std::vector<Step> kSteps = {{2.0, 7.0, {-1.1, 0.65}},
-                                  {10.0, 15.0, {0.0, 1.29}},
-                                  {18.0, 23.0, {-0.19, 0.11}}};
+const std::vector<HeadStep> kSteps = {{2.0, 7.0, {-1.1, 0.65}},
+                                      {10.0, 15.0, {0.0, 1.29}},
+                                      {18.0, 23.0, {-0.19, 0.11}}};
 
 TEST(TestPointDetection,
      FindsActuationAndReleaseWithinAFewHundredthsOfASecond) {
   for (double tau : {0.05, 0.15, 0.4}) {
-    const TestPointDetection d = DetectTestPoints(
-        Synthetic(kSteps, 26.0, tau, 0.001), 3, TestPointDetectionOptions());
+    const TestPointDetection d =
+        DetectTestPoints(SettlingMeasurement(kSteps, 26.0, tau, 0.001), 3,
+                         TestPointDetectionOptions());
     ASSERT_TRUE(d.found) << d.why_not;
     for (size_t i = 0; i < kSteps.size(); ++i) {
       // The crossing of 10 % lags a first-order step by 0.105 tau.
@@ -71,8 +36,9 @@ TEST(TestPointDetection,
 }
 
 TEST(TestPointDetection, SaysWhatItFoundWhenTheCountDiffers) {
-  const TestPointDetection d = DetectTestPoints(
-      Synthetic(kSteps, 26.0, 0.15, 0.001), 4, TestPointDetectionOptions());
+  const TestPointDetection d =
+      DetectTestPoints(SettlingMeasurement(kSteps, 26.0, 0.15, 0.001), 4,
+                       TestPointDetectionOptions());
   EXPECT_FALSE(d.found);
   EXPECT_NE(d.why_not.find("the motion shows 3 test points"), std::string::npos)
       << d.why_not;
@@ -81,7 +47,7 @@ TEST(TestPointDetection, SaysWhatItFoundWhenTheCountDiffers) {
 }
 
 TEST(TestPointDetection, IgnoresNoiseSpikesAndBridgesDropouts) {
-  VideoMeasurement m = Synthetic(kSteps, 26.0, 0.15, 0.001);
+  VideoMeasurement m = SettlingMeasurement(kSteps, 26.0, 0.15, 0.001);
   // A one-frame glitch at rest, and a lost head in the middle of a hold.
   m.frames[30 * 9].heads[0].displacement_mm = {0.3, 0.3};
   m.frames[30 * 12].heads[0].displacement_mm.setConstant(NAN);
@@ -94,11 +60,12 @@ TEST(TestPointDetection, IgnoresNoiseSpikesAndBridgesDropouts) {
 // A test point that slips leaves the head 0.1 mm off its rest (hysteresis)
 // until the next one: two test points still, not one long one.
 TEST(TestPointDetection, SplitsTestPointsJoinedByASlip) {
-  const std::vector<Step> steps = {{2.0, 7.0, {-1.1, 0.65}},
-                                   {7.0, 10.0, {0.1, 0.0}},
-                                   {10.0, 15.0, {0.0, 1.29}}};
-  const TestPointDetection d = DetectTestPoints(
-      Synthetic(steps, 18.0, 0.15, 0.001), 2, TestPointDetectionOptions());
+  const std::vector<HeadStep> steps = {{2.0, 7.0, {-1.1, 0.65}},
+                                       {7.0, 10.0, {0.1, 0.0}},
+                                       {10.0, 15.0, {0.0, 1.29}}};
+  const TestPointDetection d =
+      DetectTestPoints(SettlingMeasurement(steps, 18.0, 0.15, 0.001), 2,
+                       TestPointDetectionOptions());
   ASSERT_TRUE(d.found) << d.why_not;
   EXPECT_NEAR(d.points[0].actuate_s, 2.0, 0.04);
   EXPECT_NEAR(d.points[0].release_s, 7.0, 0.04);
