@@ -35,8 +35,8 @@ struct WindowFrameKeeperOptions {
 // (they are found from the motion afterwards), the head crops that may turn
 // out to be a window's middle frame, so the report's pictures need no
 // second decoding of the video (each seek decodes from the previous
-// keyframe: on the delta sample, 42 of them decoded a third of the video
-// again). A candidate is cut every stride from frames with every head
+// keyframe: on the delta sample, its 29 middles decoded a third of the
+// video again). A candidate is cut every stride from frames with every head
 // measured, and kept only when the heads first move about half a window
 // after it: all the middles, at a few crops per window.
 class WindowFrameKeeper {

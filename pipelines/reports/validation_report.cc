@@ -67,12 +67,10 @@ void AddCrops(const TestPlan& plan, const VideoMeasurement& m,
   report->AddParagraph(
       "The frame in the middle of each window (with the times found from "
       "the video, one within 0.1 s of it, kept on the way). Rings: the dots' "
-      "sub-pixel "
-      "centres (cyan) and the head centre in this frame (green); magenta "
-      "cross: "
-      "the initial position (initial window's median); on the actuated "
-      "frame, the predicted positions: model blue, baseline orange. Hover a "
-      "mark for its name.");
+      "sub-pixel centres (cyan) and the head centre in this frame (green); "
+      "magenta cross: the initial position (initial window's median); on the "
+      "actuated frame, the predicted positions: model blue, baseline orange. "
+      "Hover a mark for its name.");
   for (const TestScore& t : r.tests) {
     for (size_t h = 0; h < t.heads.size(); ++h) {
       const HeadScore& score = t.heads[h];
