@@ -4,10 +4,9 @@ extern "C" {
 #include <libavutil/base64.h>
 }
 
-#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
-#include "util/check.h"
+#include "vision/image_codec.h"
 
 namespace softbench {
 
@@ -24,19 +23,12 @@ std::string DataUri(const std::string& mime,
 
 }  // namespace
 
-std::string JpegDataUri(const cv::Mat& bgr, int quality) {
-  SOFTBENCH_CHECK(bgr.depth() == CV_8U && quality >= 0 && quality <= 100)
-      << "JpegDataUri takes an 8-bit image and a quality of 0-100";
-  std::vector<uint8_t> jpeg;
-  cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, quality});
-  return DataUri("image/jpeg", jpeg);
+std::string JpegDataUri(const cv::Mat& bgr, int qscale) {
+  return DataUri("image/jpeg", EncodeJpeg(bgr, qscale));
 }
 
 std::string PngDataUri(const cv::Mat& bgr) {
-  SOFTBENCH_CHECK(bgr.depth() == CV_8U) << "PngDataUri takes an 8-bit image";
-  std::vector<uint8_t> png;
-  cv::imencode(".png", bgr, png);
-  return DataUri("image/png", png);
+  return DataUri("image/png", EncodePng(bgr));
 }
 
 }  // namespace softbench

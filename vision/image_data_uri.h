@@ -6,11 +6,12 @@
 
 namespace softbench {
 
-// An 8-bit image as a JPEG data: URI (quality 0-100), for pictures inside a
-// self-contained HTML page. Lives in vision/ because its base64 is FFmpeg's,
-// and FFmpeg stays behind vision/'s walls.
-std::string JpegDataUri(const cv::Mat& bgr, int quality);
-// The same, lossless (PNG): for a page that reads the pixels' colours back.
+// An 8-bit BGR image as a JPEG data: URI (EncodeJpeg's qscale, 1-31), for
+// pictures inside a self-contained HTML page. Lives in vision/ because its
+// base64 is FFmpeg's, and FFmpeg stays behind vision/'s walls.
+std::string JpegDataUri(const cv::Mat& bgr, int qscale);
+// An 8-bit BGR or gray image, lossless (PNG): for a page that reads the
+// pixels' colours back.
 std::string PngDataUri(const cv::Mat& bgr);
 
 }  // namespace softbench

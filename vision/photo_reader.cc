@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "util/input_error.h"
 #include "util/input_file.h"
+#include "vision/image_codec.h"
 
 namespace softbench {
 namespace {
@@ -75,11 +75,11 @@ cv::Mat ReadPhoto(const std::string& path) {
   CheckInputFile(path, "the photo");
   const std::string ext = Extension(path);
   if (ext == ".heic" || ext == ".heif") return ReadHeif(path);
-  cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
-  if (bgr.empty()) {
-    throw InputError(path + ": not a readable PNG or JPEG image; re-export it");
+  ImageRead read = ReadImageFile(path, ImageColor::kBgr);
+  if (read.image.empty()) {
+    throw InputError(path + ": " + read.why_not + "; re-export it");
   }
-  return bgr;
+  return read.image;
 }
 
 }  // namespace softbench

@@ -11,7 +11,7 @@ namespace softbench {
 bool IsPhotoPath(const std::string& path);
 
 // A photo of the bench as 8-bit BGR, upright as it was taken: PNG and JPEG
-// through OpenCV (EXIF orientation applied), HEIC and HEIF, an iPhone's
+// through FFmpeg (EXIF orientation applied), HEIC and HEIF, an iPhone's
 // default, through libheif (its rotation and mirroring applied). Throws
 // InputError naming the file when it cannot be read.
 cv::Mat ReadPhoto(const std::string& path);

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <vector>
 
@@ -16,6 +15,7 @@
 #include "util/atomic_file.h"
 #include "util/input_error.h"
 #include "vision/color_tuning.h"
+#include "vision/image_codec.h"
 #include "vision/photo_reader.h"
 #include "vision/video_reader.h"
 
@@ -25,8 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 void WritePng(const fs::path& path, const cv::Mat& image) {
-  std::vector<uchar> bytes;
-  cv::imencode(".png", image, bytes);
+  const std::vector<uint8_t> bytes = EncodePng(image);
   WriteFileAtomically(path.string(), std::string(bytes.begin(), bytes.end()));
 }
 

@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
 #include "util/check.h"
 #include "util/input_error.h"
 #include "util/progress.h"
+#include "vision/image_codec.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -103,12 +103,13 @@ BoardViews BoardViewsFromImages(const std::string& directory,
   }
   std::sort(files.begin(), files.end());
   for (const fs::path& file : files) {
-    const cv::Mat gray = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-    if (gray.empty()) {
-      throw InputError(file.string() +
-                       ": not a readable image; remove it or re-export it");
+    const ImageRead read = ReadImageFile(file.string(), ImageColor::kGray);
+    if (read.image.empty()) {
+      throw InputError(file.string() + ": " + read.why_not +
+                       "; remove it or re-export it");
     }
-    AddView(gray, file.string(), file.filename().string(), options, &views);
+    AddView(read.image, file.string(), file.filename().string(), options,
+            &views);
   }
   return views;
 }

@@ -24,6 +24,10 @@ struct CropMark {
   std::string label;   // tooltip
 };
 
+// The crops' JPEG quantiser: FFmpeg's finest, as the crops are looked at
+// pixel by pixel (about the size and fidelity of libjpeg's quality 92).
+constexpr int kCropJpegQscale = 1;
+
 // One head's crop as SVG: the pixels (JPEG, drawn unsmoothed) in frame
 // pixel coordinates, so the marks sit at their exact sub-pixel places.
 std::string CropSvg(const HeadCrop& crop, const std::vector<CropMark>& marks,
@@ -34,8 +38,9 @@ std::string CropSvg(const HeadCrop& crop, const std::vector<CropMark>& marks,
       "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{} {} {} {}\">"
       "<image href=\"{}\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" "
       "style=\"image-rendering:pixelated\"/>",
-      x0, y0, crop.bgr.cols, crop.bgr.rows, JpegDataUri(crop.bgr, 92), x0, y0,
-      crop.bgr.cols, crop.bgr.rows);
+      x0, y0, crop.bgr.cols, crop.bgr.rows,
+      JpegDataUri(crop.bgr, kCropJpegQscale), x0, y0, crop.bgr.cols,
+      crop.bgr.rows);
   const double r = 0.35 * dot_radius_px;
   for (const CropMark& mark : marks) {
     if (!mark.pixel.allFinite()) continue;
