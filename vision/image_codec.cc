@@ -35,6 +35,12 @@ struct FfmpegDeleter {
 template <typename T>
 using FfmpegPtr = std::unique_ptr<T, FfmpegDeleter>;
 
+// Neither RGB nor a palette: YUV with colour, or gray (one or two
+// components, with alpha).
+bool IsLumaChroma(const AVPixFmtDescriptor& desc) {
+  return (desc.flags & (AV_PIX_FMT_FLAG_RGB | AV_PIX_FMT_FLAG_PAL)) == 0;
+}
+
 // `frame` converted by swscale to `to` (BGR24 or GRAY8). swscale's vector
 // code writes whole 16-pixel blocks: rows padded to them, then cut.
 cv::Mat Convert(const AVFrame& frame, AVPixelFormat to) {
@@ -46,10 +52,8 @@ cv::Mat Convert(const AVFrame& frame, AVPixelFormat to) {
       SWS_BILINEAR | SWS_FULL_CHR_H_INT | SWS_ACCURATE_RND, nullptr, nullptr,
       nullptr));
   SOFTBENCH_CHECK(sws != nullptr) << "swscale refused " << desc->name;
-  const bool yuv =
-      (desc->flags & (AV_PIX_FMT_FLAG_RGB | AV_PIX_FMT_FLAG_PAL)) == 0 &&
-      desc->nb_components >= 3;
-  if (yuv) SetYuvToRgb(sws.get(), frame.colorspace, frame.color_range);
+  if (IsLumaChroma(*desc) && desc->nb_components >= 3)
+    SetYuvToRgb(sws.get(), frame.colorspace, frame.color_range);
   const bool bgr = to == AV_PIX_FMT_BGR24;
   cv::Mat padded(frame.height, (frame.width + 15) / 16 * 16,
                  bgr ? CV_8UC3 : CV_8UC1);
@@ -65,10 +69,7 @@ cv::Mat Convert(const AVFrame& frame, AVPixelFormat to) {
 cv::Mat ToColor(const AVFrame& frame, ImageColor color) {
   const AVPixFmtDescriptor* desc =
       av_pix_fmt_desc_get(static_cast<AVPixelFormat>(frame.format));
-  const bool gray_source =
-      (desc->flags & (AV_PIX_FMT_FLAG_RGB | AV_PIX_FMT_FLAG_PAL)) == 0 &&
-      desc->nb_components <= 2;
-  if (gray_source) {
+  if (IsLumaChroma(*desc) && desc->nb_components <= 2) {
     cv::Mat gray = Convert(frame, AV_PIX_FMT_GRAY8);
     if (color == ImageColor::kBgr) cv::cvtColor(gray, gray, cv::COLOR_GRAY2BGR);
     return gray;
@@ -137,9 +138,6 @@ ImageRead Decode(const std::string& path, ImageColor color) {
       av_find_best_stream(format.get(), AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
   if (stream < 0) return {{}, "not a PNG or JPEG image"};
   const AVCodecParameters& par = *format->streams[stream]->codecpar;
-  if (par.codec_id != AV_CODEC_ID_PNG && par.codec_id != AV_CODEC_ID_MJPEG) {
-    return {{}, "not a PNG or JPEG image"};
-  }
   if (static_cast<int64_t>(par.width) * par.height > kMaxPixels) {
     return {{},
             fmt::format("declares a {}x{} picture, larger than any camera's",
@@ -230,33 +228,45 @@ ImageRead ReadImageFile(const std::string& path, ImageColor color) {
 std::vector<uint8_t> EncodePng(const cv::Mat& image) {
   SOFTBENCH_CHECK(image.type() == CV_8UC3 || image.type() == CV_8UC1)
       << "EncodePng takes 8-bit BGR or gray";
+  av_log_set_level(AV_LOG_QUIET);
   const bool bgr = image.channels() == 3;
-  cv::Mat pixels = image;
-  if (bgr) cv::cvtColor(image, pixels = cv::Mat(), cv::COLOR_BGR2RGB);
   const FfmpegPtr<AVFrame> frame =
       FrameFor(image, bgr ? AV_PIX_FMT_RGB24 : AV_PIX_FMT_GRAY8);
-  const cv::Mat into(image.rows, image.cols, pixels.type(), frame->data[0],
-                     static_cast<size_t>(frame->linesize[0]));
-  pixels.copyTo(into);
+  cv::Mat into(image.rows, image.cols, image.type(), frame->data[0],
+               static_cast<size_t>(frame->linesize[0]));
+  if (bgr) {
+    cv::cvtColor(image, into, cv::COLOR_BGR2RGB);  // into the frame's rows
+  } else {
+    image.copyTo(into);
+  }
   return Encode(AV_CODEC_ID_PNG, *frame, [](AVCodecContext*) {});
 }
 
 std::vector<uint8_t> EncodeJpeg(const cv::Mat& bgr, int qscale) {
   SOFTBENCH_CHECK(bgr.type() == CV_8UC3 && qscale >= 1 && qscale <= 31)
       << "EncodeJpeg takes 8-bit BGR and a qscale of 1-31";
-  // Chroma averaged over each 2x2 block (SWS_AREA), as libjpeg does.
-  const FfmpegPtr<AVFrame> frame = FrameFor(bgr, AV_PIX_FMT_YUVJ420P);
+  av_log_set_level(AV_LOG_QUIET);  // swscale's notes are no user's concern
+  // Chroma averaged over each 2x2 block (SWS_AREA), as libjpeg does. At
+  // an odd size the same picture's JPEG differed from run to run (samples
+  // past its edge that nothing wrote reached it): the picture is converted
+  // at an even size, its edge repeated, so every sample is written, and
+  // the frame is then cut back to its own size.
+  cv::Mat even;
+  cv::copyMakeBorder(bgr, even, 0, bgr.rows % 2, 0, bgr.cols % 2,
+                     cv::BORDER_REPLICATE);
+  const FfmpegPtr<AVFrame> frame = FrameFor(even, AV_PIX_FMT_YUVJ420P);
   const FfmpegPtr<SwsContext> sws(
-      sws_getContext(bgr.cols, bgr.rows, AV_PIX_FMT_BGR24, bgr.cols, bgr.rows,
-                     AV_PIX_FMT_YUVJ420P, SWS_AREA | SWS_ACCURATE_RND, nullptr,
-                     nullptr, nullptr));
+      sws_getContext(even.cols, even.rows, AV_PIX_FMT_BGR24, even.cols,
+                     even.rows, AV_PIX_FMT_YUVJ420P,
+                     SWS_AREA | SWS_ACCURATE_RND, nullptr, nullptr, nullptr));
   SOFTBENCH_CHECK(sws != nullptr) << "swscale refused BGR to YUV 4:2:0";
   SetRgbToYuv(sws.get(), AVCOL_SPC_BT470BG, AVCOL_RANGE_JPEG);
-  const cv::Mat continuous = bgr.isContinuous() ? bgr : bgr.clone();
-  const uint8_t* src[] = {continuous.data};
-  const int src_stride[] = {static_cast<int>(continuous.step)};
-  sws_scale(sws.get(), src, src_stride, 0, bgr.rows, frame->data,
+  const uint8_t* src[] = {even.data};
+  const int src_stride[] = {static_cast<int>(even.step)};
+  sws_scale(sws.get(), src, src_stride, 0, even.rows, frame->data,
             frame->linesize);
+  frame->width = bgr.cols;
+  frame->height = bgr.rows;
   frame->quality = FF_QP2LAMBDA * qscale;
   return Encode(AV_CODEC_ID_MJPEG, *frame, [&](AVCodecContext* encoder) {
     encoder->flags |= AV_CODEC_FLAG_QSCALE;
