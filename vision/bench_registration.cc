@@ -111,8 +111,11 @@ double BenchRegistration::FitMotion(const std::vector<Point>& points,
                                     CameraMotion* motion) const {
   // Parameters: the rotation vector (pan, tilt, roll) and the log of the
   // scale; those past `parameters` are held at their start. Gauss-Newton
-  // with central differences: the model is smooth and cheap, and 1e-6 rad
-  // moves a point by a few thousandths of a pixel.
+  // with forward differences: the model is smooth and cheap, and 1e-6 rad
+  // moves a point by a few thousandths of a pixel. The Jacobian's error
+  // (about 1e-6 of it) only slows the convergence; where it stops, at a
+  // step under 1e-12, is set by the residuals, which are exact. Central
+  // differences cost nearly twice the evaluations for the same answer.
   const int n = parameters;
   const auto residuals = [&](const Eigen::Vector4d& p) {
     CameraMotion m;
@@ -134,7 +137,7 @@ double BenchRegistration::FitMotion(const std::vector<Point>& points,
     for (int k = 0; k < n; ++k) {
       Eigen::Vector4d step = Eigen::Vector4d::Zero();
       step[k] = 1e-6;
-      jacobian.col(k) = (residuals(p + step) - residuals(p - step)) / 2e-6;
+      jacobian.col(k) = (residuals(p + step) - r) / 1e-6;
     }
     const Eigen::VectorXd delta = (jacobian.transpose() * jacobian)
                                       .ldlt()

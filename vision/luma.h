@@ -6,8 +6,6 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "util/check.h"
-
 namespace softbench {
 
 // Luma comes as CV_8UC1 (8-bit video, images) or CV_16UC1 (10 and 12-bit
@@ -65,28 +63,26 @@ inline cv::Mat LumaAsFloat(const cv::Mat& luma) {
 }
 
 // Luma as linear light: each code through `linear` (LinearLumaTable), into
-// `depth` CV_32F, or CV_64F for code that sums it in double (converted
-// straight, not through a float image first).
-inline cv::Mat LinearLuma(const cv::Mat& luma, const std::vector<float>& linear,
-                          int depth = CV_32F) {
-  SOFTBENCH_CHECK(depth == CV_32F || depth == CV_64F) << "depth " << depth;
-  cv::Mat out(luma.size(), CV_MAKETYPE(depth, 1));
-  const auto convert = [&](auto code, auto light) {
+// `out` as CV_32FC1 (which keeps its buffer when it is already that size
+// and type, or a view into a larger one, for code that converts a region
+// of every frame).
+inline void LinearLuma(const cv::Mat& luma, const std::vector<float>& linear,
+                       cv::Mat* out) {
+  out->create(luma.size(), CV_32FC1);
+  WithLumaType(luma, [&](auto code) {
     using T = decltype(code);
-    using L = decltype(light);
     for (int y = 0; y < luma.rows; ++y) {
       const T* in = luma.ptr<T>(y);
-      L* o = out.ptr<L>(y);
+      float* o = out->ptr<float>(y);
       for (int x = 0; x < luma.cols; ++x) o[x] = linear[in[x]];
     }
-  };
-  WithLumaType(luma, [&](auto code) {
-    if (depth == CV_32F) {
-      convert(code, float{});
-    } else {
-      convert(code, double{});
-    }
   });
+}
+
+inline cv::Mat LinearLuma(const cv::Mat& luma,
+                          const std::vector<float>& linear) {
+  cv::Mat out;
+  LinearLuma(luma, linear, &out);
   return out;
 }
 

@@ -4,13 +4,13 @@
 #include <apriltag/tag36h11.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#include <xmmintrin.h>
 #endif
 #include <algorithm>
 #include <cmath>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "util/check.h"
@@ -37,24 +37,33 @@ constexpr int kMaxBorderFits = 4;
 // The linear light (options.luma_encoding) of the part of a frame that a
 // tag's edge profiles read, converted once per fit of its border: the
 // profiles sample every pixel near an edge many times over, and each sample
-// read four pixels through the transfer table. Held as doubles, the
-// precision the profiles are summed in.
+// read four pixels through the transfer table.
 struct LinearRegion {
-  cv::Mat light;     // CV_64FC1
+  cv::Mat light;     // CV_32FC1, a view into the buffer it was converted in
   cv::Point origin;  // the region's top-left pixel in the frame
 };
 
 // The region around corners known to a few pixels: the border's profiles
-// reach at most `reach_px` beyond the sides they are taken from.
+// reach at most `reach_px` beyond the sides they are taken from. Converted
+// into `buffer`, which grows but is not given back: a new region for every
+// frame cost a large allocation (and glibc's consolidation of its free
+// chunks) each time.
 LinearRegion LinearRegionAround(const cv::Mat& gray,
                                 const std::array<Eigen::Vector2d, 4>& corners,
                                 double reach_px,
-                                const std::vector<float>& linear) {
+                                const std::vector<float>& linear,
+                                cv::Mat* buffer) {
   // Two pixels more: a bilinear sample reads the pixel after its own.
   const cv::Rect box =
       BoxAround({corners.begin(), corners.end()}, reach_px + 2, gray.size());
   if (box.empty()) return {};
-  return {LinearLuma(gray(box), linear, CV_64F), box.tl()};
+  if (buffer->rows < box.height || buffer->cols < box.width) {
+    buffer->create(std::max(buffer->rows, box.height),
+                   std::max(buffer->cols, box.width), CV_32FC1);
+  }
+  cv::Mat light = (*buffer)(cv::Rect(0, 0, box.width, box.height));
+  LinearLuma(gray(box), linear, &light);
+  return {light, box.tl()};
 }
 
 // A profile across an edge: samples every kStep at offsets s from -d to d
@@ -63,63 +72,84 @@ LinearRegion LinearRegionAround(const cv::Mat& gray,
 struct Profile {
   static constexpr double kStep = 0.25;
   explicit Profile(double half_length) : d(half_length) {
-    for (double s = -d; s <= d + 1e-9; s += kStep) offsets.push_back(s);
+    offsets.reserve(static_cast<size_t>(2 * d / kStep) + 2);
+    for (double s = -d; s <= d + 1e-9; s += kStep) {
+      offsets.push_back(static_cast<float>(s));
+    }
     values.resize(offsets.size());
   }
   double d;
-  std::vector<double> offsets, values;
+  std::vector<float> offsets;
+  std::vector<double> values;
 };
 
 // Bilinear samples of `region` at start + s normal for each offset s, into
 // `values`; every sample must lie in the region, where q >= 0, so that
 // truncation is floor (a call to floor, without SSE 4.1's roundsd, was a
-// tenth of this loop's time). Two samples at a time where SSE2 is, with the
-// same operations in the same order as one at a time, so the results are
-// the same to the bit.
+// tenth of this loop's time). In float, with positions from the region's
+// corner (under 1e-5 px of rounding, where the edges are found to 1e-3),
+// four samples at a time where SSE2 is: each sample's two pixels of a row
+// are one 8-byte load. The same operations in the same order as one at a
+// time, so the results are the same to the bit.
 void SampleProfile(const LinearRegion& region, const Eigen::Vector2d& start,
                    const Eigen::Vector2d& normal,
-                   const std::vector<double>& offsets,
+                   const std::vector<float>& offsets,
                    std::vector<double>* values) {
-  const double* light = region.light.ptr<double>();
+  const float* light = region.light.ptr<float>();
   const size_t stride = region.light.step1();
   const int n = static_cast<int>(offsets.size());
   double* out = values->data();
+  const auto sx = static_cast<float>(start.x()),
+             sy = static_cast<float>(start.y());
+  const auto nx = static_cast<float>(normal.x()),
+             ny = static_cast<float>(normal.y());
   int k = 0;
 #if defined(__SSE2__)
-  const __m128d sx = _mm_set1_pd(start.x()), sy = _mm_set1_pd(start.y());
-  const __m128d nx = _mm_set1_pd(normal.x()), ny = _mm_set1_pd(normal.y());
-  const __m128d one = _mm_set1_pd(1.0);
-  for (; k + 2 <= n; k += 2) {
-    const __m128d s = _mm_loadu_pd(&offsets[k]);
-    const __m128d qx = _mm_add_pd(sx, _mm_mul_pd(s, nx));
-    const __m128d qy = _mm_add_pd(sy, _mm_mul_pd(s, ny));
-    const __m128i ix = _mm_cvttpd_epi32(qx), iy = _mm_cvttpd_epi32(qy);
-    const __m128d a = _mm_sub_pd(qx, _mm_cvtepi32_pd(ix));
-    const __m128d b = _mm_sub_pd(qy, _mm_cvtepi32_pd(iy));
-    const double* p0 =
-        light + _mm_cvtsi128_si32(iy) * stride + _mm_cvtsi128_si32(ix);
-    const double* p1 = light +
-                       _mm_cvtsi128_si32(_mm_srli_si128(iy, 4)) * stride +
-                       _mm_cvtsi128_si32(_mm_srli_si128(ix, 4));
-    const __m128d r00 = _mm_loadh_pd(_mm_load_sd(p0), p1);
-    const __m128d r01 = _mm_loadh_pd(_mm_load_sd(p0 + 1), p1 + 1);
-    const __m128d r10 = _mm_loadh_pd(_mm_load_sd(p0 + stride), p1 + stride);
-    const __m128d r11 =
-        _mm_loadh_pd(_mm_load_sd(p0 + stride + 1), p1 + stride + 1);
-    const __m128d ia = _mm_sub_pd(one, a), ib = _mm_sub_pd(one, b);
-    const __m128d top = _mm_add_pd(_mm_mul_pd(ia, r00), _mm_mul_pd(a, r01));
-    const __m128d bottom = _mm_add_pd(_mm_mul_pd(ia, r10), _mm_mul_pd(a, r11));
-    _mm_storeu_pd(out + k,
-                  _mm_add_pd(_mm_mul_pd(ib, top), _mm_mul_pd(b, bottom)));
+  const __m128 vsx = _mm_set1_ps(sx), vsy = _mm_set1_ps(sy);
+  const __m128 vnx = _mm_set1_ps(nx), vny = _mm_set1_ps(ny);
+  const __m128 one = _mm_set1_ps(1.0f);
+  alignas(16) int ix[4], iy[4];
+  for (; k + 4 <= n; k += 4) {
+    const __m128 s = _mm_loadu_ps(&offsets[k]);
+    const __m128 qx = _mm_add_ps(vsx, _mm_mul_ps(s, vnx));
+    const __m128 qy = _mm_add_ps(vsy, _mm_mul_ps(s, vny));
+    const __m128i jx = _mm_cvttps_epi32(qx), jy = _mm_cvttps_epi32(qy);
+    const __m128 a = _mm_sub_ps(qx, _mm_cvtepi32_ps(jx));
+    const __m128 b = _mm_sub_ps(qy, _mm_cvtepi32_ps(jy));
+    _mm_store_si128(reinterpret_cast<__m128i*>(ix), jx);
+    _mm_store_si128(reinterpret_cast<__m128i*>(iy), jy);
+    const float* p[4];
+    for (int i = 0; i < 4; ++i) p[i] = light + iy[i] * stride + ix[i];
+    // Rows as (left, right) pairs: lanes 0 and 1, then 2 and 3.
+    const auto pair = [](const float* a0, const float* a1) {
+      return _mm_loadh_pi(
+          _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(a0)),
+          reinterpret_cast<const __m64*>(a1));
+    };
+    const __m128 top01 = pair(p[0], p[1]), top23 = pair(p[2], p[3]);
+    const __m128 bottom01 = pair(p[0] + stride, p[1] + stride);
+    const __m128 bottom23 = pair(p[2] + stride, p[3] + stride);
+    const __m128 r00 = _mm_shuffle_ps(top01, top23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 r01 = _mm_shuffle_ps(top01, top23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 r10 =
+        _mm_shuffle_ps(bottom01, bottom23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 r11 =
+        _mm_shuffle_ps(bottom01, bottom23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 ia = _mm_sub_ps(one, a), ib = _mm_sub_ps(one, b);
+    const __m128 top = _mm_add_ps(_mm_mul_ps(ia, r00), _mm_mul_ps(a, r01));
+    const __m128 bottom = _mm_add_ps(_mm_mul_ps(ia, r10), _mm_mul_ps(a, r11));
+    const __m128 sample =
+        _mm_add_ps(_mm_mul_ps(ib, top), _mm_mul_ps(b, bottom));
+    _mm_storeu_pd(out + k, _mm_cvtps_pd(sample));
+    _mm_storeu_pd(out + k + 2, _mm_cvtps_pd(_mm_movehl_ps(sample, sample)));
   }
 #endif
   for (; k < n; ++k) {
-    const double qx = start.x() + offsets[k] * normal.x(),
-                 qy = start.y() + offsets[k] * normal.y();
+    const float qx = sx + offsets[k] * nx, qy = sy + offsets[k] * ny;
     const int x = static_cast<int>(qx), y = static_cast<int>(qy);
-    const double a = qx - x, b = qy - y;
-    const double* r0 = light + y * stride + x;
-    const double* r1 = r0 + stride;
+    const float a = qx - static_cast<float>(x), b = qy - static_cast<float>(y);
+    const float* r0 = light + y * stride + x;
+    const float* r1 = r0 + stride;
     out[k] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) +
              b * ((1 - a) * r1[0] + a * r1[1]);
   }
@@ -155,12 +185,14 @@ std::optional<Eigen::Vector2d> EdgePoint(const cv::Mat& gray,
     return std::nullopt;
   }
   // The profile is a segment, so its two ends inside the region put all of
-  // it there (they always are for the profiles FitBorderSideOf takes).
+  // it there (they always are for the profiles FitBorderSideOf takes). A
+  // hundredth of a pixel to spare at the far side, as the samples are
+  // placed in float.
   const Eigen::Vector2d origin(region.origin.x, region.origin.y);
   const auto in_region = [&](const Eigen::Vector2d& q) {
     const Eigen::Vector2d r = q - origin;
-    return r.x() >= 0 && r.y() >= 0 && r.x() + 1 < region.light.cols &&
-           r.y() + 1 < region.light.rows;
+    return r.x() >= 0 && r.y() >= 0 && r.x() + 1.01 < region.light.cols &&
+           r.y() + 1.01 < region.light.rows;
   };
   if (!in_region(inside) || !in_region(outside)) return std::nullopt;
   // Light below black is kept: a phone's sharpening undershoots the ink
@@ -229,7 +261,9 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   // tag's; a 4K tag's edge gets them a pixel apart, the same spacing in
   // millimetres): this runs for every frame.
   const double spacing = std::max(0.5, 0.6 * length / 160.0);
+  // Room for every profile up front (this runs for every frame).
   std::vector<cv::Point2f> points;
+  points.reserve(static_cast<size_t>(0.6 * length / spacing) + 2);
   for (double t = 0.2 * length; t <= 0.8 * length; t += spacing) {
     ++side.sampled;
     if (const auto edge =
@@ -259,6 +293,8 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   // still darkens the halo 5 px away): a black cell has no edge there and
   // fails EdgePoint's contrast test.
   std::vector<Eigen::Vector2d> widths;  // (t, width)
+  widths.reserve((kCellsAcrossBorder - 2) *
+                 (static_cast<size_t>(0.2 * cell / spacing) + 2));
   for (int k = 1; k < kCellsAcrossBorder - 1; ++k) {
     for (double t = (k + 0.4) * cell; t <= (k + 0.6) * cell; t += spacing) {
       const Eigen::Vector2d p = a + t * along - cell * side.normal;
@@ -307,6 +343,31 @@ Eigen::Vector2d Intersect(const Eigen::Vector2d& p1, const Eigen::Vector2d& d1,
   m << d1, -d2;
   const Eigen::Vector2d st = m.inverse() * (p2 - p1);
   return p1 + st[0] * d1;
+}
+
+// The homography taking the four points `from` exactly to `to`: the eight
+// equations of its entries with the last one 1, solved in double precision;
+// nullopt when the points are no quadrilateral. (cv::findHomography solves
+// the same with a normalisation and a refinement that took a sixth of the
+// tag's time in every frame.)
+std::optional<Eigen::Matrix3d> HomographyThrough(
+    const std::array<Eigen::Vector2d, 4>& from,
+    const std::array<Eigen::Vector2d, 4>& to) {
+  Eigen::Matrix<double, 8, 8> a;
+  Eigen::Matrix<double, 8, 1> b;
+  for (int c = 0; c < 4; ++c) {
+    const double x = from[c].x(), y = from[c].y();
+    const double u = to[c].x(), v = to[c].y();
+    a.row(2 * c) << x, y, 1, 0, 0, 0, -u * x, -u * y;
+    a.row(2 * c + 1) << 0, 0, 0, x, y, 1, -v * x, -v * y;
+    b(2 * c) = u, b(2 * c + 1) = v;
+  }
+  const Eigen::FullPivLU<Eigen::Matrix<double, 8, 8>> lu(a);
+  if (!lu.isInvertible()) return std::nullopt;
+  const Eigen::Matrix<double, 8, 1> h = lu.solve(b);
+  Eigen::Matrix3d homography;
+  homography << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), 1.0;
+  return homography;
 }
 
 // The outer corners from the border's midlines (FitBorderSideOf): the
@@ -361,14 +422,9 @@ std::array<Eigen::Vector2d, 4> CornersOf(
   for (int c = 0; c < 4; ++c) {
     midline_square[c] = 0.5 * (kCellsAcrossBorder - 1) * unit[c];
   }
-  std::vector<cv::Point2d> from, to;
-  for (int c = 0; c < 4; ++c) {
-    from.emplace_back(midline_square[c].x(), midline_square[c].y());
-    to.emplace_back(corners[c].x(), corners[c].y());
-  }
-  // Four points: the exact homography through them (in double precision).
-  const cv::Mat homography = cv::findHomography(from, to);
-  if (homography.empty()) {  // no quadrilateral: the outer edges as found
+  const std::optional<Eigen::Matrix3d> image_from_cells =
+      HomographyThrough(midline_square, corners);
+  if (!image_from_cells) {  // no quadrilateral: the outer edges as found
     for (int c = 0; c < 4; ++c) {
       const cv::Vec4f& l1 = sides[(c + 3) % 4].outer;
       const cv::Vec4f& l2 = sides[c].outer;
@@ -377,11 +433,9 @@ std::array<Eigen::Vector2d, 4> CornersOf(
     }
     return corners;
   }
-  Eigen::Matrix3d image_from_cells;
-  cv::cv2eigen(homography, image_from_cells);
   for (int c = 0; c < 4; ++c) {
     corners[c] =
-        (image_from_cells * (0.5 * kCellsAcrossBorder * unit[c]).homogeneous())
+        (*image_from_cells * (0.5 * kCellsAcrossBorder * unit[c]).homogeneous())
             .hnormalized();
   }
   return corners;
@@ -392,9 +446,12 @@ std::array<Eigen::Vector2d, 4> CornersOf(
 std::optional<std::array<BorderSide, 4>> FitBorder(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& approximate,
     const TagDetectorOptions& options) {
-  const LinearRegion region =
-      LinearRegionAround(gray, approximate, options.edge_half_width_px,
-                         LinearLumaTable(options.luma_encoding, gray.depth()));
+  // One buffer per thread, reused for every fit (a tag is fitted in every
+  // frame).
+  thread_local cv::Mat buffer;
+  const LinearRegion region = LinearRegionAround(
+      gray, approximate, options.edge_half_width_px,
+      LinearLumaTable(options.luma_encoding, gray.depth()), &buffer);
   std::array<BorderSide, 4> sides;
   for (int c = 0; c < 4; ++c) {
     auto side = FitBorderSide(gray, region, approximate[c],
