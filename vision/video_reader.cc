@@ -48,9 +48,7 @@ std::string VideoInfo::Description() const {
 }
 
 VideoReader::State::~State() {
-  sws_freeContext(sws);
-  sws_freeContext(region_sws);
-  sws_freeContext(reduced_sws);
+  for (auto& [key, context] : sws_contexts) sws_freeContext(context);
   av_frame_free(&frame);
   av_packet_free(&packet);
   avcodec_free_context(&codec);

@@ -18,6 +18,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "util/check.h"
 #include "util/input_error.h"
 #include "util/input_file.h"
 #include "vision/ffmpeg_util.h"
@@ -165,14 +166,37 @@ void VideoReader::State::Convert(VideoFrame* out) {
     out->luma.release();
   }
   if (options.want_bgr) {
-    Rotate(ConvertBgr(&sws, frame->data, frame->linesize, w, h), &out->bgr);
+    Rotate(ConvertBgr(frame->data, frame->linesize, w, h), &out->bgr);
   } else {
     out->bgr.release();
   }
 }
 
-cv::Mat VideoReader::State::ConvertBgr(SwsContext** context,
-                                       const uint8_t* const* data,
+SwsContext* VideoReader::State::SwsFor(const SwsKey& key) {
+  const auto it =
+      std::find_if(sws_contexts.begin(), sws_contexts.end(),
+                   [&](const auto& entry) { return entry.first == key; });
+  if (it != sws_contexts.end()) {
+    std::rotate(sws_contexts.begin(), it, it + 1);
+    return sws_contexts.front().second;
+  }
+  SwsContext* context = sws_getContext(
+      key.w, key.h, static_cast<AVPixelFormat>(key.format), key.dst_w,
+      key.dst_h, static_cast<AVPixelFormat>(key.dst_format), key.flags, nullptr,
+      nullptr, nullptr);
+  SOFTBENCH_CHECK(context != nullptr) << "swscale refused " << key.w << "x"
+                                      << key.h << " format " << key.format;
+  SetYuvToRgb(context, static_cast<AVColorSpace>(key.colorspace),
+              static_cast<AVColorRange>(key.range));
+  if (sws_contexts.size() == kMaxSwsContexts) {
+    sws_freeContext(sws_contexts.back().second);
+    sws_contexts.pop_back();
+  }
+  sws_contexts.insert(sws_contexts.begin(), {key, context});
+  return context;
+}
+
+cv::Mat VideoReader::State::ConvertBgr(const uint8_t* const* data,
                                        const int* linesize, int w, int h,
                                        cv::Size dst_size) {
   if (dst_size.empty()) dst_size = {w, h};
@@ -181,18 +205,23 @@ cv::Mat VideoReader::State::ConvertBgr(SwsContext** context,
     to_sdr.emplace(info.encoding, HdrWhite());
   }
   // SDR BT.709 straight to 8 bits; anything else through 16 bits to SDR.
-  *context = sws_getCachedContext(
-      *context, w, h, static_cast<AVPixelFormat>(frame->format), dst_size.width,
-      dst_size.height, to_sdr ? AV_PIX_FMT_BGR48LE : AV_PIX_FMT_BGR24,
-      reduce ? SWS_AREA : SWS_BILINEAR, nullptr, nullptr, nullptr);
-  SetYuvToRgb(*context, frame->colorspace, frame->color_range);
+  SwsContext* context =
+      SwsFor({.w = w,
+              .h = h,
+              .format = frame->format,
+              .dst_w = dst_size.width,
+              .dst_h = dst_size.height,
+              .dst_format = to_sdr ? AV_PIX_FMT_BGR48LE : AV_PIX_FMT_BGR24,
+              .flags = reduce ? SWS_AREA : SWS_BILINEAR,
+              .colorspace = frame->colorspace,
+              .range = frame->color_range});
   // swscale's vector code writes whole 16-pixel blocks: rows padded to
   // them (and aligned), then cut to the width.
   cv::Mat padded(dst_size.height, (dst_size.width + 15) / 16 * 16,
                  to_sdr ? CV_16UC3 : CV_8UC3);
   uint8_t* dst[] = {padded.data};
   const int dst_stride[] = {static_cast<int>(padded.step)};
-  sws_scale(*context, data, linesize, 0, h, dst, dst_stride);
+  sws_scale(context, data, linesize, 0, h, dst, dst_stride);
   if (to_sdr) return to_sdr->Convert(padded.colRange(0, dst_size.width));
   return padded.colRange(0, dst_size.width);  // owned: not a view
 }
@@ -256,8 +285,7 @@ cv::Mat VideoReader::ConvertRegion(const cv::Rect& aligned,
         static_cast<ptrdiff_t>(py) * s.frame->linesize[comp.plane] +
         static_cast<ptrdiff_t>(px) * comp.step;
   }
-  return s.ConvertBgr(dst_size.empty() ? &s.region_sws : &s.reduced_sws, data,
-                      s.frame->linesize, aligned.width, aligned.height,
+  return s.ConvertBgr(data, s.frame->linesize, aligned.width, aligned.height,
                       dst_size);
 }
 
@@ -290,8 +318,8 @@ cv::Mat VideoReader::BgrRegion(const cv::Rect& region) {
   if (!RegionsConvertInPlace()) {
     // Rare path (formats without planes to point into): convert it all.
     cv::Mat full;
-    s.Rotate(s.ConvertBgr(&s.sws, s.frame->data, s.frame->linesize,
-                          s.frame->width, s.frame->height),
+    s.Rotate(s.ConvertBgr(s.frame->data, s.frame->linesize, s.frame->width,
+                          s.frame->height),
              &full);
     return full(clipped).clone();
   }

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 extern "C" {
@@ -28,9 +29,19 @@ struct VideoReader::State {
   AVCodecContext* codec = nullptr;
   AVPacket* packet = nullptr;
   AVFrame* frame = nullptr;
-  SwsContext* sws = nullptr;
-  SwsContext* region_sws = nullptr;   // cached for the last region size
-  SwsContext* reduced_sws = nullptr;  // the same for reduced regions
+  // What a swscale context converts: its sizes, formats and method, and
+  // the colour matrix and range set on it.
+  struct SwsKey {
+    int w = 0, h = 0, format = 0, dst_w = 0, dst_h = 0, dst_format = 0;
+    int flags = 0, colorspace = 0, range = 0;
+    bool operator==(const SwsKey&) const = default;
+  };
+  // Contexts for what was converted lately, the most recent first: a
+  // head's crop and the report's snapshot alternate in size, and remaking
+  // a context for each (sws_init_context and its colour tables) took ten
+  // times as long as the conversion itself.
+  static constexpr size_t kMaxSwsContexts = 16;
+  std::vector<std::pair<SwsKey, SwsContext*>> sws_contexts;
   int stream = -1;
   AVRational time_base{1, 1};
   int64_t start_pts = 0;
@@ -137,11 +148,14 @@ struct VideoReader::State {
 
   void Convert(VideoFrame* out);
 
-  // Converts a w x h picture (planes `data`) with `*context` to BGR of
-  // dst_size (the picture's own size when empty), averaging areas when it
-  // reduces.
-  cv::Mat ConvertBgr(SwsContext** context, const uint8_t* const* data,
-                     const int* linesize, int w, int h, cv::Size dst_size = {});
+  // The context for `key`, made (with its colour matrix) when it is not
+  // among the recent ones.
+  SwsContext* SwsFor(const SwsKey& key);
+
+  // Converts a w x h picture (planes `data`) to BGR of dst_size (the
+  // picture's own size when empty), averaging areas when it reduces.
+  cv::Mat ConvertBgr(const uint8_t* const* data, const int* linesize, int w,
+                     int h, cv::Size dst_size = {});
 
   // Applies the rotation metadata (clockwise degrees) like ffmpeg's autorotate.
   void Rotate(const cv::Mat& in, cv::Mat* out) const;
