@@ -26,6 +26,10 @@ std::optional<std::string> BenchRegistrationOptions::Problem() const {
     return "min_patches_for_scale must be >= min_patches";
   }
   if (!(max_residual_px > 0.0)) return "max_residual_px must be > 0";
+  if (tag_stride < 1) return "tag_stride must be >= 1";
+  if (still_frames < 2) return "still_frames must be >= 2";
+  if (!(still_tremor_px >= 0.0)) return "still_tremor_px must be >= 0";
+  if (!(still_step_px > 0.0)) return "still_step_px must be > 0";
   return std::nullopt;
 }
 
@@ -243,9 +247,65 @@ double BenchRegistration::FitWithinGates(const std::vector<Point>& points,
 }
 
 FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
+  if (tag_ && frames_since_tag_ + 1 < options_.tag_stride && Still()) {
+    // Between the strides: the tag's corners held from the last frame that
+    // located them, every patch aligned afresh. A knock moves the patches
+    // away from the held corners (and the fit away from the last frame's),
+    // and the frame is registered in full instead.
+    FrameRegistration held = Fit(luma, last_corners_, false);
+    const double step_px =
+        (held.shift_px - last_motion_.ShiftPx(camera_.intrinsics())).norm();
+    if (held.registered && held.parameters == 4 &&
+        step_px <= options_.still_step_px) {
+      ++frames_since_tag_;
+      Remember(held);
+      return held;
+    }
+  }
+  frames_since_tag_ = 0;
+  FrameRegistration full = Fit(luma, FindTag(luma), true);
+  Remember(full);
+  return full;
+}
+
+void BenchRegistration::Remember(const FrameRegistration& r) {
+  if (!r.registered) {
+    recent_shifts_px_.clear();
+    return;
+  }
+  last_motion_ = r.motion;
+  if (static_cast<int>(recent_shifts_px_.size()) > options_.still_frames) {
+    recent_shifts_px_.erase(recent_shifts_px_.begin());
+  }
+  recent_shifts_px_.push_back(r.shift_px);
+}
+
+bool BenchRegistration::Still() const {
+  const int n = static_cast<int>(recent_shifts_px_.size());
+  if (n <= options_.still_frames) return false;
+  std::array<std::vector<double>, 2> differences;
+  for (int i = 1; i < n; ++i) {
+    const Eigen::Vector2d d = recent_shifts_px_[i] - recent_shifts_px_[i - 1];
+    if (d.norm() > options_.still_step_px) return false;
+    for (int c = 0; c < 2; ++c) differences[c].push_back(d[c]);
+  }
+  for (std::vector<double>& d : differences) {
+    const double median = Median(d);
+    for (double& v : d) v = std::abs(v - median);
+    if (1.4826 * Median(d) / std::sqrt(2.0) > options_.still_tremor_px) {
+      return false;
+    }
+  }
+  return true;
+}
+
+FrameRegistration BenchRegistration::Fit(
+    const cv::Mat& luma,
+    const std::optional<std::array<Eigen::Vector2d, 4>>& corners,
+    bool tag_looked_for) {
   FrameRegistration out;
+  out.tag_skipped = !tag_looked_for;
   std::vector<Point> points;
-  const std::optional<std::array<Eigen::Vector2d, 4>> corners = FindTag(luma);
   // The patches start where the tag says the camera went (their own
   // alignment converges within about a pixel), else where it last was.
   CameraMotion motion = last_motion_;
@@ -261,11 +321,12 @@ FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
   for (const Eigen::Vector3d& ray : patch_rays_) {
     predicted.push_back(Predict(current_from_reference, ray));
   }
+  const std::vector<PatchMatch> matches = patches_.Track(luma, predicted);
   int patches_found = 0;
-  for (const PatchMatch& m : patches_.Track(luma, predicted)) {
-    if (!m.found) continue;
-    points.push_back({camera_.Undistort(m.reference_px).homogeneous(), m.pixel,
-                      false, m.normal});
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (!matches[i].found) continue;
+    points.push_back(
+        {patch_rays_[i], matches[i].pixel, false, matches[i].normal});
     ++patches_found;
   }
   if (!corners && patches_found < options_.min_patches) {
@@ -307,11 +368,10 @@ FrameRegistration BenchRegistration::Register(const cv::Mat& luma) {
   }
   out.registered = true;
   out.shift_px = motion.ShiftPx(camera_.intrinsics());
-  if (out.tag_used) {
+  if (out.tag_used && tag_looked_for) {
     out.tag_corners = corners;
     last_corners_ = *corners;
   }
-  last_motion_ = motion;
   return out;
 }
 

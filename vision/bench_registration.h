@@ -46,6 +46,26 @@ struct BenchRegistrationOptions {
   // Largest RMS misfit of the points kept [px]: more, and the frame is left
   // out rather than measured against a doubtful registration.
   double max_residual_px = 0.2;
+  // A still camera's tag is re-located on every tag_stride-th frame only
+  // (1: every frame); on the frames between, its corners are held from the
+  // last frame that located them, and every static patch is aligned afresh.
+  // Re-fitting the tag's edges is most of registration's cost, and a still
+  // camera's tag does not move: the held corners pin the fit as the fresh
+  // ones would. A frame whose fit moves the camera further than
+  // still_step_px from the last frame's, or whose patches do not pin all
+  // four parameters, is registered in full instead (a knock moves the
+  // patches away from the held corners).
+  int tag_stride = 4;
+  // The camera is still while, over the last still_frames registered
+  // frames, its shift moves from one frame to the next by a robust scatter
+  // under still_tremor_px (1.4826 times the median absolute deviation, over
+  // sqrt 2; the larger axis) and never by more than still_step_px. Half the
+  // camera path's tremor_px: a camera that trembles keeps every frame's own
+  // registration, tag included. A still 1080p camera scatters by under
+  // 0.003 px, a phone on a tripod by 0.03-0.08 px.
+  int still_frames = 16;
+  double still_tremor_px = 0.005;
+  double still_step_px = 0.05;
 
   std::optional<std::string> Problem() const;
 };
@@ -69,6 +89,9 @@ struct FrameRegistration {
   int patches_used = 0;
   // 2: pan and tilt; 3: and roll; 4: and scale.
   int parameters = 2;
+  // The tag was not looked for: a still camera between its tag_stride
+  // frames, registered with its corners held (tag_stride).
+  bool tag_skipped = false;
 };
 
 // Registers every frame to the fixed bench: the camera's motion since the
@@ -90,6 +113,8 @@ class BenchRegistration {
                     const std::optional<TagReference>& tag,
                     const BenchRegistrationOptions& options = {});
 
+  // Registers the next frame of the video (frames in time order: a still
+  // camera's tag is re-located at a stride, see tag_stride).
   FrameRegistration Register(const cv::Mat& luma);
 
   int patch_count() const { return patches_.size(); }
@@ -131,6 +156,17 @@ class BenchRegistration {
   double FitWithinGates(const std::vector<Point>& points, bool tag_found,
                         std::vector<double>* weights, CameraMotion* motion,
                         FrameRegistration* out) const;
+  // Registers `luma` by the tag's `corners` (when found) and the static
+  // patches; `tag_looked_for` false: the corners are held from the last
+  // frame that located them (tag_stride).
+  FrameRegistration Fit(
+      const cv::Mat& luma,
+      const std::optional<std::array<Eigen::Vector2d, 4>>& corners,
+      bool tag_looked_for);
+  // Whether the last still_frames registrations say the camera is still.
+  bool Still() const;
+  // Keeps a frame's registration for the next frame's start and Still().
+  void Remember(const FrameRegistration& r);
 
   Camera camera_;  // intrinsics only: distortion and projection
   BenchRegistrationOptions options_;
@@ -140,6 +176,10 @@ class BenchRegistration {
   StaticPatches patches_;
   std::vector<Eigen::Vector3d> patch_rays_;
   CameraMotion last_motion_;
+  // The shifts of the last registered frames (at most still_frames + 1),
+  // cleared by a frame not registered; frames since the tag was looked for.
+  std::vector<Eigen::Vector2d> recent_shifts_px_;
+  int frames_since_tag_ = 0;
   std::unique_ptr<TagDetector> detector_;  // made when first needed
 };
 

@@ -297,14 +297,23 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
   }
 }
 
-// "every frame, by tag 3 and 40 static patches".
+// "every frame, by 40 static patches and tag 3 (the tag on one frame in 4
+// while the camera is still)".
 std::string RegistrationMethod(const TestPlan& plan,
                                const RegistrationReference& reference,
+                               const BenchRegistrationOptions& options,
                                int patches) {
+  if (!reference.tag) {
+    return fmt::format("every frame, by {} static patches", patches);
+  }
   return fmt::format(
-      "every frame, by {}{} static patches",
-      reference.tag ? fmt::format("tag {} and ", plan.calibration.tag->id) : "",
-      patches);
+      "every frame, by {} static patches and tag {}{}", patches,
+      plan.calibration.tag->id,
+      options.tag_stride == 1
+          ? ""
+          : fmt::format(" (the tag on one frame in {} while the camera is "
+                        "still)",
+                        options.tag_stride));
 }
 
 // Refuses a measurement with no frames, or with most of them not
@@ -393,6 +402,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   m.registers_frames = registrations.reference.has_value();
   m.registration = m.registers_frames
                        ? RegistrationMethod(plan, *registrations.reference,
+                                            registrations.options,
                                             measurers.front().patch_count())
                        : why_still;
   std::vector<std::unique_ptr<VideoReader>> window_readers;
