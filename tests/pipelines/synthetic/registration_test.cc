@@ -73,6 +73,57 @@ TEST(BenchRegistration, RecoversTheRenderedCameraMotion) {
   }
 }
 
+// A still camera's tag is located on one frame in tag_stride, its corners
+// held between; a knock on a frame between is caught there (the patches
+// leave the held corners) and that frame is registered in full, tag and
+// all, to the same few hundredths of a pixel.
+TEST(BenchRegistration, HoldsAStillCamerasTagAndLocatesItAgainAtAKnock) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  RenderOptions options;
+  const SceneRenderer renderer(plan, options);
+  const Eigen::VectorXd rest = Eigen::VectorXd::Zero(2);
+  const cv::Mat reference = Luma(renderer.Render({rest}, 0));
+  const BenchRegistrationOptions registration_options;
+  ASSERT_EQ(registration_options.tag_stride, 4);
+  FrameConditions still;
+  still.motion =
+      CameraMotion::FromImageShift(options.intrinsics, {0.1, -0.05}, 0.0);
+  const cv::Mat still_luma = Luma(renderer.Render({rest}, 1, still));
+  for (const double knock_px : {0.3, 2.5}) {
+    BenchRegistration registration(options.intrinsics, reference, cv::Mat(),
+                                   DetectTag(reference), registration_options);
+    int skipped = 0;
+    const int frames = registration_options.still_frames + 9;
+    for (int k = 0; k < frames; ++k) {
+      const FrameRegistration r = registration.Register(still_luma);
+      ASSERT_TRUE(r.registered) << r.why_not;
+      // Not before the history says the camera is still.
+      if (k <= registration_options.still_frames) {
+        EXPECT_FALSE(r.tag_skipped);
+      }
+      EXPECT_EQ(r.tag_corners.has_value(), !r.tag_skipped);
+      skipped += r.tag_skipped;
+      EXPECT_LT((r.shift_px - still.motion.ShiftPx(options.intrinsics)).norm(),
+                0.03);
+    }
+    // Three of every four frames once still: 8 frames, 6 held.
+    EXPECT_EQ(skipped, 6);
+    // The next frame would hold the tag; the knock makes it locate it.
+    FrameConditions knocked;
+    knocked.motion = CameraMotion::FromImageShift(
+        options.intrinsics, Eigen::Vector2d(0.1 + knock_px, -0.05), 1e-4);
+    const FrameRegistration r =
+        registration.Register(Luma(renderer.Render({rest}, 2, knocked)));
+    ASSERT_TRUE(r.registered) << r.why_not;
+    EXPECT_FALSE(r.tag_skipped) << knock_px;
+    EXPECT_TRUE(r.tag_used) << knock_px;
+    EXPECT_LT((r.shift_px - knocked.motion.ShiftPx(options.intrinsics)).norm(),
+              0.03)
+        << knock_px;
+    EXPECT_NEAR(r.motion.roll_rad(), 1e-4, 5e-5) << knock_px;
+  }
+}
+
 TEST(BenchRegistration, LeavesOutAFrameWithNothingStaticToRegister) {
   const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
   RenderOptions options;
