@@ -45,16 +45,6 @@ for case in "samples/phone/phone.mp4 $plan" "$video_4k $out/phone_4k.plan.yaml";
     "$validate --out $out/$name-registered"
     "$validate --no-registration --out $out/$name-still")
   run_rounds "$runs" "$out/times-$name.txt" "${commands[@]}"
-  python3 - "$out/times-$name.txt" "$name" <<'PY'
-import statistics, sys
-rounds = [list(map(float, line.split()[1:])) for line in open(sys.argv[1])]
-decode, registered, still = (statistics.median(r[k] for r in rounds) for k in range(3))
-name = sys.argv[2]
-print(f"{name}: decode only (ffmpeg -f null)   median {decode:6.3f} s")
-print(f"{name}: validate, registered           median {registered:6.3f} s")
-print(f"{name}: validate --no-registration     median {still:6.3f} s")
-print(f"{name}: registered / decode only:      {statistics.median(r[1] / r[0] for r in rounds):.3f}"
-      f"  (median of {len(rounds)} rounds; target <= 1.15)")
-print(f"{name}: registered / not registered:   {statistics.median(r[1] / r[2] for r in rounds):.3f}")
-PY
+  summarise_rounds "$out/times-$name.txt" "decode only" "validate" \
+    "validate --no-registration"
 done

@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -120,41 +121,66 @@ double BenchRegistration::FitMotion(const std::vector<Point>& points,
   // (about 1e-6 of it) only slows the convergence; where it stops, at a
   // step under 1e-12, is set by the residuals, which are exact. Central
   // differences cost nearly twice the evaluations for the same answer.
-  const int n = parameters;
-  const auto residuals = [&](const Eigen::Vector4d& p) {
+  // The normal equations are summed point by point in fixed-size matrices:
+  // this runs several times for every frame, and a residual vector and a
+  // Jacobian on the heap for each evaluation cost as much as the sums.
+  constexpr double kStep = 1e-6;
+  const auto matrix = [](const Eigen::Vector4d& p) {
     CameraMotion m;
     m.rotation_rad = p.head<3>();
     m.scale = std::exp(p[3]);
-    const Eigen::Matrix3d current_from_reference = m.CurrentFromReference();
-    Eigen::VectorXd r(2 * points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-      r.segment<2>(2 * i) =
-          std::sqrt(weights[i]) * Misfit(current_from_reference, points[i]);
-    }
-    return r;
+    return m.CurrentFromReference();
   };
   Eigen::Vector4d p;
   p << motion->rotation_rad, std::log(motion->scale);
-  Eigen::VectorXd r = residuals(p);
-  for (int iteration = 0; iteration < 10; ++iteration) {
-    Eigen::MatrixXd jacobian(r.size(), n);
-    for (int k = 0; k < n; ++k) {
-      Eigen::Vector4d step = Eigen::Vector4d::Zero();
-      step[k] = 1e-6;
-      jacobian.col(k) = (residuals(p + step) - r) / 1e-6;
+  // The weighted sum of squared misfits at `p`; with `normal` and
+  // `gradient`, also J'J and J'r over the first `parameters` (the others'
+  // rows are the identity's and zero, so their step is zero).
+  const auto sums = [&](Eigen::Matrix4d* normal, Eigen::Vector4d* gradient) {
+    std::array<Eigen::Matrix3d, 5> m;
+    m[0] = matrix(p);
+    const int moved = normal != nullptr ? parameters : 0;
+    for (int k = 0; k < moved; ++k) {
+      m[k + 1] = matrix(p + kStep * Eigen::Vector4d::Unit(k));
     }
-    const Eigen::VectorXd delta = (jacobian.transpose() * jacobian)
-                                      .ldlt()
-                                      .solve(-jacobian.transpose() * r);
-    p.head(n) += delta;
-    r = residuals(p);
+    if (normal != nullptr) {
+      normal->setZero();
+      gradient->setZero();
+    }
+    double squares = 0.0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (weights[i] == 0.0) continue;
+      const double root = std::sqrt(weights[i]);
+      const Eigen::Vector2d r = root * Misfit(m[0], points[i]);
+      squares += r.squaredNorm();
+      if (normal == nullptr) continue;
+      Eigen::Matrix<double, 2, 4> jacobian =
+          Eigen::Matrix<double, 2, 4>::Zero();
+      for (int k = 0; k < moved; ++k) {
+        jacobian.col(k) = (root * Misfit(m[k + 1], points[i]) - r) / kStep;
+      }
+      *normal += jacobian.transpose() * jacobian;
+      *gradient += jacobian.transpose() * r;
+    }
+    if (normal != nullptr) {
+      for (int k = moved; k < 4; ++k) (*normal)(k, k) = 1.0;
+    }
+    return squares;
+  };
+  Eigen::Matrix4d normal;
+  Eigen::Vector4d gradient;
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    sums(&normal, &gradient);
+    const Eigen::Vector4d delta = normal.ldlt().solve(-gradient);
+    p += delta;
     if (delta.lpNorm<Eigen::Infinity>() < 1e-12) break;
   }
+  const double squares = sums(nullptr, nullptr);
   motion->rotation_rad = p.head<3>();
   motion->scale = std::exp(p[3]);
   double used = 0.0;
   for (double w : weights) used += w;
-  return std::sqrt(r.squaredNorm() / std::max(used, 1.0));
+  return std::sqrt(squares / std::max(used, 1.0));
 }
 
 std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::Follow(

@@ -260,7 +260,9 @@ bool StaticPatches::Align(const cv::Mat& luma, const Template& t,
 std::vector<PatchMatch> StaticPatches::Track(
     const cv::Mat& luma, const std::vector<Eigen::Vector2d>& predicted) const {
   std::vector<PatchMatch> matches(templates_.size());
-  Scratch scratch;
+  // Kept for the thread's life: this runs every frame, and buffers of a
+  // kilobyte or more, made afresh, make malloc sort its free lists each time.
+  thread_local Scratch scratch;
   for (size_t i = 0; i < templates_.size(); ++i) {
     PatchMatch& m = matches[i];
     m.reference_px = templates_[i].centre;
