@@ -7,7 +7,7 @@
 #   hevc_4k.mp4               4K 8-bit HEVC
 #   h264_4k.mp4               4K 8-bit H.264
 # The last three are rendered once into build/bench-formats from the same
-# 17 s scene of the delta mechanism (bench/formats.plan.yaml, a still camera).
+# 16 s scene of the delta mechanism (bench/formats.plan.yaml, a still camera).
 # Each round runs decode only (ffmpeg -f null, default threads: the limit)
 # and validate (target: within 1.10x its wall and CPU time) on one file after
 # the other (bench/interleaved_rounds.sh), and the ratios are taken within a
