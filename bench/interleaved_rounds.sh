@@ -10,6 +10,10 @@
 # the median wall and CPU time and peak memory over the rounds, and for each
 # command after the first its wall and CPU time over the first's, taken
 # within each round: the median and the range.
+#
+# wall_ratio FILE A B LABEL prints LABEL and command A's wall time over
+# command B's (commands counted from 0), taken within each round: the median
+# and the range.
 run_rounds() {
   local rounds=$1 file=$2
   shift 2
@@ -48,5 +52,16 @@ for k, label in enumerate(labels):
         line += f"  / {labels[0]}: wall {spread(wall)}, CPU {spread(cpu)}"
     print(line)
 print(f"(medians of {len(rounds)} interleaved rounds)")
+PY
+}
+
+wall_ratio() {
+  python3 - "$@" <<'PY'
+import statistics, sys
+file, a, b, label = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+rounds = [list(map(float, line.split()[1:])) for line in open(file)]
+ratios = [r[3 * a] / r[3 * b] for r in rounds]
+print(f"{label}: {statistics.median(ratios):.3f} "
+      f"({min(ratios):.3f}-{max(ratios):.3f})")
 PY
 }

@@ -47,4 +47,5 @@ for case in "samples/phone/phone.mp4 $plan" "$video_4k $out/phone_4k.plan.yaml";
   run_rounds "$runs" "$out/times-$name.txt" "${commands[@]}"
   summarise_rounds "$out/times-$name.txt" "decode only" "validate" \
     "validate --no-registration"
+  wall_ratio "$out/times-$name.txt" 1 2 "registered / not registered, wall"
 done

@@ -33,10 +33,4 @@ commands=("ffmpeg -v error -i $video -map 0:v -f null -"
 run_rounds "$runs" "$media/times.txt" "${commands[@]}"
 summarise_rounds "$media/times.txt" "decode only" "validate" \
   "validate --windows-only"
-python3 - "$media/times.txt" <<'PY'
-import statistics, sys
-rounds = [list(map(float, line.split()[1:])) for line in open(sys.argv[1])]
-faster = [r[3] / r[6] for r in rounds]
-print(f"every frame / windows only, wall: {statistics.median(faster):.1f} "
-      f"({min(faster):.1f}-{max(faster):.1f}; target >= 15)")
-PY
+wall_ratio "$media/times.txt" 1 2 "every frame / windows only, wall (target >= 15)"

@@ -95,7 +95,7 @@ class StaticPatches {
     // once.
     Eigen::Matrix4d normal_matrix = Eigen::Matrix4d::Identity();
   };
-  // Buffers Align reuses from patch to patch.
+  // Buffers Align reuses from patch to patch (Track keeps one per thread).
   struct Scratch {
     std::vector<float> light;     // the (2 h + 2)^2 pixels under a patch
     std::vector<float> residual;  // (2 h + 1)^2
