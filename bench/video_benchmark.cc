@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -15,20 +16,31 @@
 #include "vision/frame_source.h"
 #include "vision/head_tracker.h"
 #include "vision/static_patches.h"
+#include "vision/tag_detector.h"
+#include "vision/tag_finder.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
 namespace {
 
-// One frame of the delta sample's scene, heads still (one exposure sample) or
-// moving (four, for motion blur).
-void BM_RenderFrame(benchmark::State& state, cv::Size size, bool moving) {
-  const TestPlan plan = LoadTestPlan(std::string(SOFTBENCH_SOURCE_DIR) +
-                                     "/samples/delta/plan.yaml");
+TestPlan DeltaPlan() {
+  return LoadTestPlan(std::string(SOFTBENCH_SOURCE_DIR) +
+                      "/samples/delta/plan.yaml");
+}
+
+// The delta sample's scene (its tag and heads) as a 52 mm-equivalent lens
+// sees it at `size`.
+SceneRenderer DeltaScene(cv::Size size) {
   RenderOptions options;
   options.intrinsics =
       CameraIntrinsics::FromEquivalentFocalLength(52, size.width, size.height);
-  const SceneRenderer renderer(plan, options);
+  return {DeltaPlan(), options};
+}
+
+// One frame of the delta sample's scene, heads still (one exposure sample) or
+// moving (four, for motion blur).
+void BM_RenderFrame(benchmark::State& state, cv::Size size, bool moving) {
+  const SceneRenderer renderer = DeltaScene(size);
   int64_t frame = 0;
   for (auto _ : state) {
     std::vector<Eigen::VectorXd> samples;
@@ -74,6 +86,41 @@ void BM_ChooseStaticPatches(benchmark::State& state, const std::string& name) {
 BENCHMARK_CAPTURE(BM_ChooseStaticPatches, delta, std::string("delta"))
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_ChooseStaticPatches, phone, std::string("phone"))
+    ->Unit(benchmark::kMillisecond);
+
+// Finds the plan's tag in the first frame of a rendered delta scene, as
+// `validate` does once per video with the decoder waiting: TagFinder (a
+// coarse search at 640 px across, then the tag's region read) against the
+// previous whole-frame search at libapriltag's half resolution.
+void BM_FindTagInFirstFrame(benchmark::State& state, cv::Size size,
+                            bool coarse) {
+  cv::Mat luma;
+  cv::cvtColor(DeltaScene(size).Render({Eigen::Vector2d::Zero()}, 0), luma,
+               cv::COLOR_BGR2GRAY);
+  const int id = DeltaPlan().calibration.tag->id;
+  bool found = false;
+  for (auto _ : state) {
+    if (coarse) {
+      TagFinder finder(id, {});
+      found = finder.Find(luma).has_value();
+    } else {
+      found = false;
+      for (const TagDetection& d : TagDetector().Detect(luma)) {
+        found = found || d.id == id;
+      }
+    }
+  }
+  state.counters["found"] = found;
+}
+BENCHMARK_CAPTURE(BM_FindTagInFirstFrame, 1080p_coarse, cv::Size(1920, 1080),
+                  true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FindTagInFirstFrame, 1080p_whole, cv::Size(1920, 1080),
+                  false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FindTagInFirstFrame, 4k_coarse, cv::Size(3840, 2160), true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FindTagInFirstFrame, 4k_whole, cv::Size(3840, 2160), false)
     ->Unit(benchmark::kMillisecond);
 
 // Decodes the whole file: decode only (Skip), or with the luma plane each

@@ -28,7 +28,7 @@ struct TagDetectorOptions {
   // How the luma's codes encode light (the video's transfer and range,
   // VideoInfo::LumaEncoding): edges are located in linear light. The default
   // is an SDR image's.
-  LumaEncoding luma_encoding;
+  LumaEncoding luma_encoding{};
 
   std::optional<std::string> Problem() const;
 };

@@ -4,14 +4,13 @@
 
 #include <cmath>
 #include <numbers>
-#include <set>
 
 #include "calibration/camera_calibration.h"
 #include "util/input_error.h"
 #include "util/statistics.h"
 #include "vision/frame_source.h"
 #include "vision/layout_scale.h"
-#include "vision/tag_detector.h"
+#include "vision/tag_finder.h"
 
 namespace softbench {
 namespace {
@@ -25,41 +24,21 @@ std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
   VideoReader& reader = *reader_ptr;
   const std::string& path = reader.path();
   std::vector<std::array<Eigen::Vector2d, 4>> found;
-  std::set<int> other_ids;
   VideoFrame frame;
   int frames = 0;
-  const TagDetector detector(
-      TagDetectorOptions{.luma_encoding = reader.info().luma_encoding()});
-  // The tag stays put: after the first frame that shows it, only the region
-  // around it (grown by half its size) is searched, ten times faster.
-  cv::Rect region;
+  TagFinder finder(
+      tag.id, {.detector = {.luma_encoding = reader.info().luma_encoding()}});
   int damaged = 0;
   while (frames < tag_frames && reader.Read(&frame)) {
     ++frames;
     if (frame.damaged) ++damaged;
-    const cv::Mat luma = region.empty() ? frame.luma : frame.luma(region);
-    for (TagDetection d : detector.Detect(luma)) {
-      for (Eigen::Vector2d& corner : d.corners) {
-        corner += Eigen::Vector2d(region.x, region.y);
-      }
-      if (d.id == tag.id) {
-        found.push_back(d.corners);
-        if (region.empty()) {
-          const double side_px =
-              (d.corners[0] - d.corners[2]).norm() / std::numbers::sqrt2;
-          region = BoxAround({d.corners.begin(), d.corners.end()},
-                             0.5 * side_px, frame.luma.size());
-        }
-      } else {
-        other_ids.insert(d.id);
-      }
-    }
+    if (auto d = finder.Find(frame.luma)) found.push_back(d->corners);
   }
   if (found.empty()) {
     std::string seen = "no tag36h11 tag";
-    if (!other_ids.empty()) {
+    if (!finder.other_ids().empty()) {
       seen = "tag id(s)";
-      for (int id : other_ids) seen += fmt::format(" {}", id);
+      for (int id : finder.other_ids()) seen += fmt::format(" {}", id);
     }
     if (damaged > 0) {
       // Damaged frames hide the tag: that is the cause to name.
