@@ -96,6 +96,22 @@ BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
   }
 }
 
+BenchRegistration::BenchRegistration(const BenchRegistration& other)
+    : camera_(other.camera_),
+      options_(other.options_),
+      tag_(other.tag_),
+      tag_rays_(other.tag_rays_),
+      last_corners_(other.last_corners_),
+      patches_(other.patches_),
+      patch_rays_(other.patch_rays_),
+      last_motion_(other.last_motion_),
+      recent_shifts_px_(other.recent_shifts_px_),
+      frames_since_tag_(other.frames_since_tag_) {}
+
+std::unique_ptr<BenchRegistration> BenchRegistration::Clone() const {
+  return std::unique_ptr<BenchRegistration>(new BenchRegistration(*this));
+}
+
 Eigen::Vector2d BenchRegistration::Predict(
     const Eigen::Matrix3d& current_from_reference,
     const Eigen::Vector3d& ray) const {

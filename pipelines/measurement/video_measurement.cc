@@ -140,17 +140,15 @@ std::vector<TimeSpan> MeasuredSpans(const VideoInfo& info,
 }
 
 // What registers the frames to the bench: the reference from the first
-// frame, and the registration each measurer copies.
+// frame, and the registration each measurer copies (made once: the windows'
+// workers and the check for enough structure share its patches).
 struct Registrations {
   std::optional<RegistrationReference> reference;
-  CameraIntrinsics intrinsics;
   BenchRegistrationOptions options;
+  std::unique_ptr<const BenchRegistration> prototype;  // with a reference
 
   std::unique_ptr<BenchRegistration> Make() const {
-    if (!reference) return nullptr;
-    return std::make_unique<BenchRegistration>(intrinsics, reference->luma,
-                                               reference->static_mask,
-                                               reference->tag, options);
+    return prototype ? prototype->Clone() : nullptr;
   }
 };
 
@@ -162,15 +160,19 @@ Registrations MakeRegistrations(
     const CameraIntrinsics& intrinsics,
     const std::optional<std::array<Eigen::Vector2d, 4>>& tag_corners,
     const VideoMeasurementOptions& options, std::string* why_still) {
-  Registrations r{std::nullopt, intrinsics, options.registration};
+  Registrations r{std::nullopt, options.registration, nullptr};
   r.options.tag.luma_encoding = first.luma_encoding();
   r.options.patches.luma_encoding = first.luma_encoding();
   *why_still = "off: the camera is taken to be still";
   if (!options.register_frames) return r;
   r.reference = MakeRegistrationReference(plan, first, mapping, tag_corners);
+  r.prototype = std::make_unique<const BenchRegistration>(
+      intrinsics, r.reference->luma, r.reference->static_mask, r.reference->tag,
+      r.options);
   if (!r.reference->tag &&
-      r.Make()->patch_count() < options.registration.min_patches) {
+      r.prototype->patch_count() < options.registration.min_patches) {
     r.reference.reset();
+    r.prototype.reset();
     *why_still =
         "off: no tag in the plan and too little static structure in view; "
         "the camera is taken to be still";

@@ -124,6 +124,47 @@ TEST(BenchRegistration, HoldsAStillCamerasTagAndLocatesItAgainAtAKnock) {
   }
 }
 
+// A clone (each worker of a windows-only run takes one) carries the
+// original's whole state: made after still frames, it holds the tag on the
+// same frames and registers every frame exactly as the original does, a
+// knock included.
+TEST(BenchRegistration, CloneRegistersExactlyAsTheOriginal) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  RenderOptions options;
+  const SceneRenderer renderer(plan, options);
+  const Eigen::VectorXd rest = Eigen::VectorXd::Zero(2);
+  const cv::Mat reference = Luma(renderer.Render({rest}, 0));
+  BenchRegistration original(options.intrinsics, reference, cv::Mat(),
+                             DetectTag(reference));
+  FrameConditions still, knocked;
+  still.motion =
+      CameraMotion::FromImageShift(options.intrinsics, {0.2, -0.1}, 0.0);
+  knocked.motion =
+      CameraMotion::FromImageShift(options.intrinsics, {2.2, 0.4}, 2e-4);
+  const cv::Mat still_luma = Luma(renderer.Render({rest}, 1, still));
+  const cv::Mat knocked_luma = Luma(renderer.Render({rest}, 2, knocked));
+  for (int k = 0; k < BenchRegistrationOptions().still_frames + 2; ++k) {
+    ASSERT_TRUE(original.Register(still_luma).registered);
+  }
+  const std::unique_ptr<BenchRegistration> clone = original.Clone();
+  EXPECT_EQ(clone->patch_count(), original.patch_count());
+  int skipped = 0;
+  for (const cv::Mat* luma :
+       {&still_luma, &still_luma, &still_luma, &knocked_luma, &knocked_luma}) {
+    const FrameRegistration a = original.Register(*luma);
+    const FrameRegistration b = clone->Register(*luma);
+    ASSERT_TRUE(a.registered) << a.why_not;
+    ASSERT_TRUE(b.registered) << b.why_not;
+    EXPECT_EQ(b.tag_skipped, a.tag_skipped);
+    EXPECT_EQ(b.patches_used, a.patches_used);
+    EXPECT_EQ(b.shift_px, a.shift_px);
+    EXPECT_EQ(b.motion.rotation_rad, a.motion.rotation_rad);
+    skipped += a.tag_skipped;
+  }
+  // The still history was carried over: the tag was held on some frames.
+  EXPECT_GT(skipped, 0);
+}
+
 TEST(BenchRegistration, LeavesOutAFrameWithNothingStaticToRegister) {
   const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
   RenderOptions options;
