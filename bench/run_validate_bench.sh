@@ -5,6 +5,8 @@
 #   decode only       ffmpeg -f null (default threads), the limit
 #   full tracking     softbench validate (every frame measured, full report)
 #   windows only      softbench validate --windows-only (seeks to the windows)
+#   windows, decode   ffmpeg decoding only those windows, two at a time
+#                     (bench/decode_windows.py), the peer of windows only
 # Usage: bench/run_validate_bench.sh [rounds]   (default 5; medians)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,8 +31,14 @@ ffprobe -v error -select_streams v -show_entries stream=width,height,nb_frames,d
 validate="./build/release/softbench --quiet validate $video --plan $media/rendered.plan.yaml"
 commands=("ffmpeg -v error -i $video -map 0:v -f null -"
   "$validate --out $media/report-full"
-  "$validate --windows-only --out $media/report-windows")
+  "$validate --windows-only --out $media/report-windows"
+  "bench/decode_windows.py $video $media/report-windows")
+# The windows' decode needs their times: from a windows-only run first.
+[[ -f $media/report-windows/summary.json ]] || $validate --windows-only \
+  --out "$media/report-windows" >/dev/null
 run_rounds "$runs" "$media/times.txt" "${commands[@]}"
 summarise_rounds "$media/times.txt" "decode only" "validate" \
-  "validate --windows-only"
+  "validate --windows-only" "ffmpeg, the windows only"
 wall_ratio "$media/times.txt" 1 2 "every frame / windows only, wall (target >= 15)"
+wall_ratio "$media/times.txt" 1 3 "every frame / ffmpeg's windows only, wall"
+bench/decode_windows.py --count "$video" "$media/report-windows"
