@@ -20,21 +20,11 @@ rounds=${1:-5}
 ./scripts/bootstrap.sh --bench
 cmake --preset release >/dev/null && cmake --build --preset release >/dev/null
 
-out=build/bench-formats
-mkdir -p "$out"
-render() {  # NAME RENDER-OPTIONS...
-  local name=$1
-  shift
-  if [[ ! -f "$out/$name.mp4" ]]; then
-    echo "rendering $out/$name.mp4 (a few minutes on 2 cores)..."
-    ./build/release/softbench --quiet render --plan bench/formats.plan.yaml \
-      --out "$out/$name.mp4" --truth "$out/$name.truth.csv" \
-      --plan-out "$out/$name.plan.yaml" --preset veryfast --seed 29 "$@"
-  fi
-}
-render hlg_1080p --resolution 1080p --codec hevc --bit-depth 10 --hdr hlg
-render hevc_4k --resolution 4k --codec hevc
-render h264_4k --resolution 4k --codec h264
+source bench/formats_clips.sh
+out=$formats_clips
+render_formats_clip hlg_1080p --resolution 1080p --codec hevc --bit-depth 10 --hdr hlg
+render_formats_clip hevc_4k --resolution 4k --codec hevc
+render_formats_clip h264_4k --resolution 4k --codec h264
 
 cases=("samples/delta/delta.mp4 samples/delta/rendered.plan.yaml")
 for name in hlg_1080p hevc_4k h264_4k; do

@@ -21,17 +21,12 @@ rounds=${1:-1}
 ./scripts/bootstrap.sh --bench
 cmake --preset release >/dev/null && cmake --build --preset release >/dev/null
 
-clips=build/bench-formats
-media=build/bench-memory-4k
-mkdir -p "$clips" "$media"
+source bench/formats_clips.sh
+render_formats_clip h264_4k --resolution 4k --codec h264
+clips=$formats_clips
 clip=$clips/h264_4k.mp4
-if [[ ! -f "$clip" ]]; then
-  echo "rendering $clip (a few minutes on 2 cores)..."
-  ./build/release/softbench --quiet render --plan bench/formats.plan.yaml \
-    --out "$clip" --truth "$clips/h264_4k.truth.csv" \
-    --plan-out "$clips/h264_4k.plan.yaml" --preset veryfast --seed 29 \
-    --resolution 4k --codec h264
-fi
+media=build/bench-memory-4k
+mkdir -p "$media"
 
 copies=38
 video=$media/h264_4k_10min.mp4
