@@ -199,6 +199,7 @@ bool VideoReader::Read(VideoFrame* frame) {
   state_->NoteReturned();
   state_->Convert(frame);
   frame->damaged = state_->FrameDamaged();
+  frame->intra = state_->FrameIntra();
   return true;
 }
 
@@ -290,6 +291,7 @@ VideoFrame VideoReader::SeekTo(double time_s) {
   VideoFrame frame;
   s.Convert(&frame);
   frame.damaged = s.FrameDamaged();
+  frame.intra = s.FrameIntra();
   return frame;
 }
 

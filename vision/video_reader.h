@@ -28,6 +28,11 @@ struct VideoFrame {
   // The decoder reported errors in this frame (bit flips, a lost packet):
   // its pixels are partly concealed and must not be measured.
   bool damaged = false;
+  // Coded without reference to other frames (an I picture: a key frame or
+  // an intra refresh). A still scene's later frames repeat what the codec
+  // drew here until the next one, so a measurement's codec error changes at
+  // these frames (pipelines/validation/uncertainty_budget.h).
+  bool intra = false;
 };
 
 struct VideoReaderOptions {
@@ -56,6 +61,9 @@ struct VideoInfo {
   // Every frame's presentation time in order, from the container's packets:
   // phones write variable frame rate, so frame k is not at k / fps.
   std::vector<double> frame_times_s;
+  // The presentation times of the container's key frames (where a seek can
+  // start decoding), in order.
+  std::vector<double> key_frame_times_s;
   // The median interval between frames, and whether the intervals vary by
   // more than 1 % (variable frame rate).
   double frame_interval_s = 0.0;

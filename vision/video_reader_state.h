@@ -107,6 +107,7 @@ struct VideoReader::State {
   // propagate through the frames predicted from a concealed one, and the
   // decoder does not flag those).
   bool FrameDamaged() const { return tainted; }
+  bool FrameIntra() const { return frame->pict_type == AV_PICTURE_TYPE_I; }
 
   // Records the frame about to be returned: the frames the container lists
   // before it since the last one returned are lost, and it is damaged if

@@ -34,6 +34,8 @@ struct FrameSample {
   // The decoder reported errors in this frame (damaged video data): its
   // heads are not measured.
   bool damaged = false;
+  // The frame was coded as an I picture (VideoFrame::intra).
+  bool intra = false;
   CameraMotion camera_motion;  // the camera's path (SmoothCameraPath)
   Eigen::Vector2d camera_shift_px = Eigen::Vector2d::Zero();
   double camera_roll_rad = 0.0;

@@ -116,6 +116,7 @@ class SpanMeasurer {
       FrameSample sample;
       sample.frame = frame.index;
       sample.time_s = frame.time_s;
+      sample.intra = frame.intra;
       if (frame.damaged) {  // concealed pixels are never measured
         sample.damaged = true;
         sample.registered = false;

@@ -1,6 +1,7 @@
 #include "pipelines/reports/validation_charts.h"
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "pipelines/reports/html_report.h"
@@ -51,6 +52,23 @@ json PositionChart(const TestPlan& plan, const ValidationResult& r) {
       point("error line", s.model_mm, t.id + "/model");
       point("error line", s.measured_mm, t.id + "/baseline");
       point("error line", s.baseline_mm, t.id + "/baseline");
+      // The measured displacement's U = 2u ellipse (axes along y and z).
+      if (!t.scored() || !s.budget.u_mm.allFinite()) continue;
+      constexpr int kSides = 24;
+      for (int k = 0; k <= kSides; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / kSides;
+        const Eigen::Vector2d p =
+            s.measured_mm +
+            2.0 * Eigen::Vector2d(s.budget.u_mm.x() * std::cos(a),
+                                  s.budget.u_mm.y() * std::sin(a));
+        values.push_back({{"test", t.id},
+                          {"head", head},
+                          {"series", "U = 2u ellipse"},
+                          {"y", p.x()},
+                          {"z", p.y()},
+                          {"pair", t.id + "/ellipse"},
+                          {"k", k}});
+      }
     }
   }
   // Equal axes: a square plot whose two domains span the same millimetres,
@@ -68,7 +86,7 @@ json PositionChart(const TestPlan& plan, const ValidationResult& r) {
       {"$schema", kVegaLiteSchema},
       {"title",
        "Measured and predicted displacements (figs. 4.8, 4.16), "
-       "equal axes"},
+       "equal axes; the measured ones' U = 2u ellipses"},
       {"data", {{"values", values}}},
       {"facet", {{"field", "head"}, {"type", "nominal"}}},
       {"spec",
@@ -78,7 +96,17 @@ json PositionChart(const TestPlan& plan, const ValidationResult& r) {
          {{{"transform", {{{"filter", "datum.series == 'error line'"}}}},
            {"mark", {{"type", "line"}, {"color", "#bbb"}, {"strokeWidth", 1}}},
            {"encoding", {{"x", x}, {"y", y}, {"detail", {{"field", "pair"}}}}}},
-          {{"transform", {{{"filter", "datum.series != 'error line'"}}}},
+          {{"transform", {{{"filter", "datum.series == 'U = 2u ellipse'"}}}},
+           {"mark", {{"type", "line"}, {"color", "#444"}, {"strokeWidth", 1}}},
+           {"encoding",
+            {{"x", x},
+             {"y", y},
+             {"detail", {{"field", "pair"}}},
+             {"order", {{"field", "k"}, {"type", "quantitative"}}}}}},
+          {{"transform",
+            {{{"filter",
+               "datum.series != 'error line' && "
+               "datum.series != 'U = 2u ellipse'"}}}},
            {"mark", {{"type", "point"}, {"filled", true}, {"size", 50}}},
            {"encoding",
             {{"x", x},
@@ -106,29 +134,56 @@ json ErrorChart(const TestPlan& plan, const ValidationResult& r) {
                           {"model", name},
                           {"error", error}});
       }
+      if (t.scored()) {
+        values.push_back({{"test", t.id},
+                          {"head", plan.mechanism.heads[h].name},
+                          {"model", "U = 2u of the measurement"},
+                          {"error", 2.0 * t.heads[h].budget.TotalMm()}});
+      }
     }
   }
+  const json test_axis = {
+      {"field", "test"}, {"type", "nominal"}, {"sort", nullptr}};
+  const json error_axis = {{"field", "error"},
+                           {"type", "quantitative"},
+                           {"title", "|measured - predicted| [mm]"}};
   return {
       {"$schema", kVegaLiteSchema},
-      {"title", "Position error per test point (figs. 4.9, 4.17)"},
+      {"title",
+       "Position error per test point (figs. 4.9, 4.17), with the "
+       "measurement's U = 2u"},
       {"data", {{"values", values}}},
       {"facet", {{"field", "head"}, {"type", "nominal"}}},
       {"spec",
        {{"width", 420},
         {"height", 220},
-        {"mark", "bar"},
-        {"encoding",
-         {{"x", {{"field", "test"}, {"type", "nominal"}, {"sort", nullptr}}},
-          {"xOffset", {{"field", "model"}}},
-          {"y",
-           {{"field", "error"},
-            {"type", "quantitative"},
-            {"title", "|measured - predicted| [mm]"}}},
-          {"color", {{"field", "model"}, {"type", "nominal"}}},
-          {"tooltip",
-           {{{"field", "test"}},
-            {{"field", "model"}},
-            {{"field", "error"}}}}}}}}};
+        {"layer",
+         {{{"transform",
+            {{{"filter",
+               "datum.model != 'U = 2u of the "
+               "measurement'"}}}},
+           {"mark", "bar"},
+           {"encoding",
+            {{"x", test_axis},
+             {"xOffset", {{"field", "model"}}},
+             {"y", error_axis},
+             {"color", {{"field", "model"}, {"type", "nominal"}}},
+             {"tooltip",
+              {{{"field", "test"}},
+               {{"field", "model"}},
+               {{"field", "error"}}}}}}},
+          {{"transform",
+            {{{"filter",
+               "datum.model == 'U = 2u of the "
+               "measurement'"}}}},
+           {"mark", {{"type", "tick"}, {"color", "black"}, {"thickness", 2}}},
+           {"encoding",
+            {{"x", test_axis},
+             {"y", error_axis},
+             {"tooltip",
+              {{{"field", "test"}},
+               {{"field", "model"}},
+               {{"field", "error"}}}}}}}}}}}};
 }
 
 namespace {

@@ -20,21 +20,30 @@ using nlohmann::json;
 std::string TrajectoryCsv(const TestPlan& plan,
                           const VideoMeasurement& measurement) {
   std::string csv =
-      "frame,time_s,head,u_px,v_px,y_mm,z_mm,sigma_mm,dots_found,dots,"
-      "rotation_rad,binary_y_mm,binary_z_mm,full_frame,registered,"
-      "camera_dx_px,camera_dy_px,camera_roll_rad,note\n";
+      "frame,time_s,head,u_px,v_px,y_mm,z_mm,sigma_mm,u_y_mm,u_z_mm,"
+      "dots_found,dots,rotation_rad,binary_y_mm,binary_z_mm,full_frame,"
+      "registered,camera_dx_px,camera_dy_px,camera_roll_rad,note\n";
+  // Each head's standard uncertainty in a frame (the terms that need no
+  // windows), where its position is measured.
+  std::vector<Eigen::Vector2d> u;
+  for (size_t h = 0; h < plan.markers.size(); ++h) {
+    u.push_back(FrameUncertaintyMm(measurement, static_cast<int>(h)));
+  }
   for (const FrameSample& f : measurement.frames) {
     for (size_t h = 0; h < f.heads.size(); ++h) {
       const HeadSample& s = f.heads[h];
       const HeadObservation& o = s.observation;
+      const bool located = s.displacement_mm.allFinite();
       csv += fmt::format(
-          "{},{:.6f},{},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{},{},{:.6f},"
+          "{},{:.6f},{},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{},{},{},{},{:.6f},"
           "{:.5f},{:.5f},{},{},{:.4f},{:.4f},{:.7f},{}\n",
           f.frame, f.time_s,
           CsvField(plan.mechanism.heads[plan.markers[h].head].name),
           o.pixel.x(), o.pixel.y(), s.displacement_mm.x(),
-          s.displacement_mm.y(), o.sigma_mm, o.dots_found, o.dots.size(),
-          o.rotation_rad, s.binary_displacement_mm.x(),
+          s.displacement_mm.y(), o.sigma_mm,
+          located ? FormatMicrons(u[h].x()) : "nan",
+          located ? FormatMicrons(u[h].y()) : "nan", o.dots_found,
+          o.dots.size(), o.rotation_rad, s.binary_displacement_mm.x(),
           s.binary_displacement_mm.y(), o.full_frame ? 1 : 0,
           f.registered ? 1 : 0, f.camera_shift_px.x(), f.camera_shift_px.y(),
           f.camera_roll_rad, CsvField(o.note));
@@ -73,6 +82,20 @@ std::string ProvenanceCells(const VideoValidation& v) {
   return cells;
 }
 
+// u_dy_mm, u_dz_mm, u_mm, u_largest_term, model_error_significant,
+// hysteresis_u_mm and hysteresis_verdict where the test is scored, to a
+// hundredth of a micrometre (uncertainties are a few micrometres).
+std::string UncertaintyCells(const TestScore& t, const HeadScore& s) {
+  if (!t.scored()) return ",,,,,,";
+  return FormatMicrons(s.budget.u_mm.x()) + "," +
+         FormatMicrons(s.budget.u_mm.y()) + "," +
+         FormatMicrons(s.budget.TotalMm()) + "," +
+         CsvField(s.budget.Largest()) + "," +
+         (s.model_error_significant ? "1" : "0") + "," +
+         FormatMicrons(s.hysteresis_budget.TotalMm()) + "," +
+         CsvField(s.hysteresis_verdict);
+}
+
 }  // namespace
 
 std::string ResultsCsv(const VideoValidation& v) {
@@ -88,7 +111,8 @@ std::string ResultsCsv(const VideoValidation& v) {
       "final_z_mm,measured_dy_mm,measured_dz_mm,model_dy_mm,model_dz_mm,"
       "model_error_mm,baseline_dy_mm,baseline_dz_mm,baseline_error_mm,"
       "hysteresis_mm,hysteresis_ok,in_range,within_reach,status,reason,"
-      "uncertainty_mm,"
+      "u_dy_mm,u_dz_mm,u_mm,u_largest_term,model_error_significant,"
+      "hysteresis_u_mm,hysteresis_verdict,"
       "frames_initial,frames_actuated,frames_final" +
       ProvenanceHeader() + "\n";
   for (const TestScore& t : r.tests) {
@@ -118,7 +142,7 @@ std::string ResultsCsv(const VideoValidation& v) {
                                                 : "") +
              "," + (t.outside_range.empty() ? "1" : "0") + "," +
              (t.beyond_reach.empty() ? "1" : "0") + "," + CsvField(t.status) +
-             "," + CsvField(t.reason) + "," + scored(s.uncertainty_mm);
+             "," + CsvField(t.reason) + "," + UncertaintyCells(t, s);
       for (const WindowSummary& w : t.windows) {
         csv +=
             "," + (h < w.head_frames.size() ? std::to_string(w.head_frames[h])
@@ -133,12 +157,73 @@ std::string ResultsCsv(const VideoValidation& v) {
       csv += CsvField(t.id) + "," + CsvField(head.name);
       for (double p : t.pressures) csv += fmt::format(",{:g}", p);
       csv += std::string(18, ',') +  // 18 empty cells
-             ",skipped,skipped on the bench (the plan says so),,,," +
+             ",skipped,skipped on the bench (the plan says so),,,,,,,,,," +
              provenance + "\n";
     }
   }
   return csv;
 }
+
+namespace {
+
+// A budget's total and terms.
+json BudgetJson(const UncertaintyBudget& budget) {
+  json terms = json::array();
+  for (const UncertaintyTerm& term : budget.terms) {
+    terms.push_back({{"term", term.name},
+                     {"u_dy_mm", JsonNumber(term.u_mm.x())},
+                     {"u_dz_mm", JsonNumber(term.u_mm.y())}});
+  }
+  return {{"u_dy_mm", JsonNumber(budget.u_mm.x())},
+          {"u_dz_mm", JsonNumber(budget.u_mm.y())},
+          {"u_mm", JsonNumber(budget.TotalMm())},
+          {"expanded_mm", JsonNumber(2.0 * budget.TotalMm())},
+          {"largest_term", budget.Largest()},
+          {"terms", terms}};
+}
+
+// One test's windows and, where measured, its heads' uncertainty budgets.
+json TestJson(const TestPlan& plan, const TestScore& t) {
+  json test = {{"id", t.id},
+               {"status", t.status},
+               {"reason", t.reason},
+               {"within_reach", t.beyond_reach.empty()}};
+  if (!t.beyond_reach.empty()) test["beyond_reach"] = t.beyond_reach;
+  for (int k = 0; k < 3; ++k) {
+    const WindowSummary& w = t.windows[k];
+    json window = {{"start_s", w.start_s},
+                   {"end_s", w.end_s},
+                   {"frames", w.frames},
+                   {"unregistered_frames", w.unregistered_frames},
+                   {"camera_shift_px",
+                    {JsonNumber(w.camera_shift_px.x()),
+                     JsonNumber(w.camera_shift_px.y())}},
+                   {"camera_motion_px", w.camera_motion_px}};
+    for (size_t h = 0; h < w.median_mm.size(); ++h) {
+      window["heads"].push_back(
+          {{"frames", w.head_frames[h]},
+           {"median_mm",
+            {JsonNumber(w.median_mm[h].x()), JsonNumber(w.median_mm[h].y())}},
+           {"spread_mm",
+            {JsonNumber(w.spread_mm[h].x()), JsonNumber(w.spread_mm[h].y())}}});
+    }
+    test["windows"][kWindowNames[k]] = window;
+  }
+  if (t.measured) {
+    for (size_t h = 0; h < t.heads.size(); ++h) {
+      const HeadScore& s = t.heads[h];
+      test["uncertainty"].push_back(
+          {{"head", plan.mechanism.heads[h].name},
+           {"displacement", BudgetJson(s.budget)},
+           {"hysteresis", BudgetJson(s.hysteresis_budget)},
+           {"model_error_significant", s.model_error_significant},
+           {"hysteresis_verdict", s.hysteresis_verdict}});
+    }
+  }
+  return test;
+}
+
+}  // namespace
 
 json SummaryJson(const VideoValidation& v) {
   const TestPlan& plan = v.plan;
@@ -196,40 +281,16 @@ json SummaryJson(const VideoValidation& v) {
   }
   root["hysteresis"] = {{"tolerance_mm", plan.hysteresis_tolerance_mm},
                         {"flagged", r.hysteresis_flagged},
-                        {"shared_cause", r.hysteresis_cause}};
+                        {"shared_cause", r.hysteresis_cause},
+                        {"exceeds_tolerance", r.hysteresis_exceeds},
+                        {"within_tolerance", r.hysteresis_within},
+                        {"cannot_tell", r.hysteresis_cannot_tell}};
+  root["largest_expanded_uncertainty_mm"] = JsonNumber(r.largest_expanded_mm);
   root["warnings"] = r.warnings;
   for (const TestPoint& t : plan.skipped_tests) {
     root["skipped_tests"].push_back(t.id);
   }
-  for (const TestScore& t : r.tests) {
-    json test = {{"id", t.id},
-                 {"status", t.status},
-                 {"reason", t.reason},
-                 {"within_reach", t.beyond_reach.empty()}};
-    if (!t.beyond_reach.empty()) test["beyond_reach"] = t.beyond_reach;
-    for (int k = 0; k < 3; ++k) {
-      const WindowSummary& w = t.windows[k];
-      json window = {{"start_s", w.start_s},
-                     {"end_s", w.end_s},
-                     {"frames", w.frames},
-                     {"unregistered_frames", w.unregistered_frames},
-                     {"camera_shift_px",
-                      {JsonNumber(w.camera_shift_px.x()),
-                       JsonNumber(w.camera_shift_px.y())}},
-                     {"camera_motion_px", w.camera_motion_px}};
-      for (size_t h = 0; h < w.median_mm.size(); ++h) {
-        window["heads"].push_back(
-            {{"frames", w.head_frames[h]},
-             {"median_mm",
-              {JsonNumber(w.median_mm[h].x()), JsonNumber(w.median_mm[h].y())}},
-             {"spread_mm",
-              {JsonNumber(w.spread_mm[h].x()),
-               JsonNumber(w.spread_mm[h].y())}}});
-      }
-      test["windows"][kWindowNames[k]] = window;
-    }
-    root["tests"].push_back(test);
-  }
+  for (const TestScore& t : r.tests) root["tests"].push_back(TestJson(plan, t));
   return root;
 }
 

@@ -125,6 +125,8 @@ void AddCrops(const TestPlan& plan, const VideoMeasurement& m,
 
 std::string FormatMm(double value) { return FormatFixed(value, 4); }
 
+std::string FormatMicrons(double value_mm) { return FormatFixed(value_mm, 5); }
+
 std::string FormatPercent(double value) {
   return std::isfinite(value) ? fmt::format("{:.0f} %", value) : "";
 }
@@ -139,28 +141,86 @@ void AddSummary(const TestPlan& plan, const ValidationResult& r,
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     const ErrorStatistics& a = r.model_errors[h];
     const ErrorStatistics& b = r.baseline_errors[h];
-    std::vector<double> uncertainties;
+    std::vector<double> expanded;
+    int significant = 0;
     for (const TestScore& t : r.tests) {
-      if (t.scored()) uncertainties.push_back(t.heads[h].uncertainty_mm);
+      if (!t.scored()) continue;
+      expanded.push_back(2.0 * t.heads[h].budget.TotalMm());
+      significant += t.heads[h].model_error_significant ? 1 : 0;
     }
     rows.push_back({plan.mechanism.heads[h].name, std::to_string(a.tests),
                     FormatMm(a.mean_mm), FormatMm(a.max_mm), FormatMm(a.rms_mm),
                     FormatMm(b.mean_mm), FormatMm(b.max_mm), FormatMm(b.rms_mm),
                     FormatPercent(r.improvement_percent[h]),
-                    uncertainties.empty()
-                        ? std::string()
-                        : FormatMm(*std::max_element(uncertainties.begin(),
-                                                     uncertainties.end()))});
+                    expanded.empty() ? std::string()
+                                     : FormatMm(*std::max_element(
+                                           expanded.begin(), expanded.end())),
+                    fmt::format("{} of {}", significant, expanded.size())});
   }
-  report->AddTable({"head", "tests", "model mean [mm]", "model max",
-                    "model RMS", "baseline mean", "baseline max",
-                    "baseline RMS", "improvement", "largest uncertainty [mm]"},
-                   rows);
+  report->AddTable(
+      {"head", "tests", "model mean [mm]", "model max", "model RMS",
+       "baseline mean", "baseline max", "baseline RMS", "improvement",
+       "largest U = 2u [mm]", "model errors beyond their U"},
+      rows);
+  report->AddParagraph(fmt::format(
+      "Uncertainty: each measured displacement carries a budget of the "
+      "errors this video shows (below, and docs/uncertainty.md): its "
+      "standard uncertainty u and expanded uncertainty U = 2u, within which "
+      "a displacement's error lies about 98 % of the time. The largest U is "
+      "{} mm. A model error beyond its U is the model's; one within it may "
+      "be the measurement's. Hysteresis against the {} mm tolerance: {} "
+      "exceed it by more than their U, {} are within it by more than their "
+      "U, {} cannot tell.",
+      FormatMm(r.largest_expanded_mm), plan.hysteresis_tolerance_mm,
+      r.hysteresis_exceeds, r.hysteresis_within, r.hysteresis_cannot_tell));
+}
+
+// Each scored displacement's budget: every term's u (both axes in
+// quadrature), the total u, U = 2u, and the largest term.
+void AddBudgets(const TestPlan& plan, const ValidationResult& r,
+                HtmlReport* report) {
+  std::vector<std::string> names;
+  for (const TestScore& t : r.tests) {
+    if (!t.scored()) continue;
+    for (const HeadScore& s : t.heads) {
+      for (const UncertaintyTerm& term : s.budget.terms) {
+        if (std::find(names.begin(), names.end(), term.name) == names.end()) {
+          names.push_back(term.name);
+        }
+      }
+    }
+  }
+  if (names.empty()) return;
+  report->AddHeading("Uncertainty budget");
+  std::vector<std::string> header = {"test", "head"};
+  for (const std::string& name : names) header.push_back(name + " [mm]");
+  for (const char* column : {"u [mm]", "U = 2u [mm]", "largest term"}) {
+    header.emplace_back(column);
+  }
+  std::vector<std::vector<std::string>> rows;
+  for (const TestScore& t : r.tests) {
+    if (!t.scored()) continue;
+    for (size_t h = 0; h < t.heads.size(); ++h) {
+      const UncertaintyBudget& b = t.heads[h].budget;
+      std::vector<std::string> row = {t.id, plan.mechanism.heads[h].name};
+      for (const std::string& name : names) {
+        const auto term = std::find_if(
+            b.terms.begin(), b.terms.end(),
+            [&](const UncertaintyTerm& x) { return x.name == name; });
+        row.push_back(term == b.terms.end() ? "-"
+                                            : FormatMicrons(term->u_mm.norm()));
+      }
+      row.push_back(FormatMicrons(b.TotalMm()));
+      row.push_back(FormatMicrons(2.0 * b.TotalMm()));
+      row.push_back(b.Largest());
+      rows.push_back(std::move(row));
+    }
+  }
+  report->AddTable(header, rows);
   report->AddParagraph(
-      "Uncertainty: the standard uncertainty of a measured displacement from "
-      "its windows' own scatter (each window median's standard error, "
-      "1.2533 x spread / sqrt(frames), initial and actuated in quadrature). "
-      "It is a floor: frames within a window share slow errors.");
+      "Each term is the standard uncertainty it adds to the displacement "
+      "(dy and dz in quadrature); independent terms add in quadrature. "
+      "docs/uncertainty.md says how each is measured from the video.");
 }
 
 // "p1 p2 p3" as the plan gives them.
@@ -183,13 +243,20 @@ void AddTestTable(const TestPlan& plan, const ValidationResult& r,
                              ? std::to_string(w.head_frames[h])
                              : std::string("-"));
       }
-      rows.push_back({t.id, Pressures(t.pressures),
-                      plan.mechanism.heads[h].name, FormatMm(s.measured_mm.x()),
-                      FormatMm(s.measured_mm.y()), FormatMm(s.uncertainty_mm),
-                      fmt::format("{}", fmt::join(frames, " / ")),
-                      FormatMm(s.model_error_mm), FormatMm(s.baseline_error_mm),
-                      FormatMm(s.hysteresis_mm),
-                      t.status + (t.reason.empty() ? "" : ": " + t.reason)});
+      rows.push_back(
+          {t.id, Pressures(t.pressures), plan.mechanism.heads[h].name,
+           FormatMm(s.measured_mm.x()), FormatMm(s.measured_mm.y()),
+           t.scored() ? FormatMicrons(2.0 * s.budget.TotalMm()) : std::string(),
+           fmt::format("{}", fmt::join(frames, " / ")),
+           FormatMm(s.model_error_mm) +
+               (t.scored() ? (s.model_error_significant ? " (beyond U)"
+                                                        : " (within U)")
+                           : ""),
+           FormatMm(s.baseline_error_mm),
+           FormatMm(s.hysteresis_mm) + (s.hysteresis_verdict.empty()
+                                            ? ""
+                                            : ": " + s.hysteresis_verdict),
+           t.status + (t.reason.empty() ? "" : ": " + t.reason)});
     }
   }
   for (const TestPoint& t : plan.skipped_tests) {
@@ -197,7 +264,7 @@ void AddTestTable(const TestPlan& plan, const ValidationResult& r,
                     "", "skipped (as the plan says)"});
   }
   report->AddTable({"test", "pressures [" + plan.pressure_unit + "]", "head",
-                    "measured dy [mm]", "measured dz [mm]", "uncertainty [mm]",
+                    "measured dy [mm]", "measured dz [mm]", "U = 2u [mm]",
                     "frames initial / actuated / final", "model error [mm]",
                     "baseline error [mm]", "hysteresis [mm]", "status"},
                    rows);
@@ -293,6 +360,7 @@ std::string ValidationReportHtml(const VideoValidation& v) {
   report.AddHeading("Frames");
   AddCrops(plan, m, r, &report);
   AddTestTable(plan, r, &report);
+  AddBudgets(plan, r, &report);
   report.AddHeading("Hysteresis");
   report.AddParagraph(fmt::format(
       "Tolerance {} mm; flagged: {}. {}", plan.hysteresis_tolerance_mm,

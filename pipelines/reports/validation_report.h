@@ -9,6 +9,8 @@ namespace softbench {
 
 // Millimetres as the report files write them (4 decimals; empty for NaN).
 std::string FormatMm(double value);
+// An uncertainty in millimetres, to a hundredth of a micrometre.
+std::string FormatMicrons(double value_mm);
 // A percentage as the report pages show it ("12 %"; empty for NaN).
 std::string FormatPercent(double value);
 

@@ -10,6 +10,7 @@
 #include "model/equilibrium.h"
 #include "model/inverse.h"
 #include "pipelines/validation/plan_consistency.h"
+#include "pipelines/validation/uncertainty_budget.h"
 #include "util/check.h"
 #include "util/statistics.h"
 
@@ -128,6 +129,23 @@ void WarnCameraMotion(const std::vector<TestScore>& tests,
   }
 }
 
+// The number of independent samples that `series` (in time order) is worth:
+// n (1 - r) / (1 + r) with r its lag-1 autocorrelation (an AR(1) series;
+// negative r counted as none), at least 1.
+double EffectiveSampleSize(const std::vector<double>& series) {
+  const double n = static_cast<double>(series.size());
+  if (series.size() < 3) return std::max(1.0, n);
+  double mean = 0.0;
+  for (double v : series) mean += v / n;
+  double lag0 = 0.0, lag1 = 0.0;
+  for (size_t i = 0; i < series.size(); ++i) {
+    lag0 += (series[i] - mean) * (series[i] - mean);
+    if (i > 0) lag1 += (series[i] - mean) * (series[i - 1] - mean);
+  }
+  const double r = lag0 > 0.0 ? std::clamp(lag1 / lag0, 0.0, 1.0) : 1.0;
+  return std::max(1.0, n * (1.0 - r) / (1.0 + r));
+}
+
 }  // namespace
 
 std::optional<std::string> ValidationOptions::Problem() const {
@@ -188,7 +206,11 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   window->head_frames.assign(num_heads, 0);
   window->median_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   window->spread_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
+  window->standard_error_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
+  window->dot_median_mm.assign(num_heads, {});
   std::vector<std::array<std::vector<double>, 2>> values(num_heads);
+  // Per head, dot and axis.
+  std::vector<std::vector<std::array<std::vector<double>, 2>>> dots(num_heads);
   std::array<std::vector<double>, 2> camera;
   window->unregistered_frames = 0;
   window->damaged_frames = static_cast<int>(
@@ -222,6 +244,12 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
       ++window->head_frames[h];
       values[h][0].push_back(head.displacement_mm.x());
       values[h][1].push_back(head.displacement_mm.y());
+      const std::vector<DotObservation>& found = head.observation.dots;
+      dots[h].resize(found.size());
+      for (size_t d = 0; d < found.size(); ++d) {
+        dots[h][d][0].push_back(found[d].plane_mm.x());
+        dots[h][d][1].push_back(found[d].plane_mm.y());
+      }
     }
   }
   window->camera_motion_px = 0.0;
@@ -241,6 +269,13 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
       for (double v : values[h][a]) deviations.push_back(std::abs(v - median));
       window->median_mm[h][a] = median;
       window->spread_mm[h][a] = 1.4826 * Median(deviations);
+      window->standard_error_mm[h][a] =
+          std::sqrt(std::numbers::pi / 2.0 /
+                    EffectiveSampleSize(values[h][a])) *
+          window->spread_mm[h][a];
+    }
+    for (const auto& dot : dots[h]) {
+      window->dot_median_mm[h].emplace_back(Median(dot[0]), Median(dot[1]));
     }
   }
 }
@@ -299,14 +334,6 @@ void SummariseWindows(const TestPlan& plan, const VideoMeasurement& measurement,
   }
 }
 
-// The variance [mm^2] of a window's median position of head `h`, summed over
-// both axes: a median of n samples has about pi/2 times the variance of a
-// mean, so its standard error is 1.2533 x spread / sqrt(n).
-double MedianVariance(const WindowSummary& window, int h) {
-  const double n = std::max(1, window.head_frames[h]);
-  return (std::numbers::pi / 2.0) * window.spread_mm[h].squaredNorm() / n;
-}
-
 // Each head's measured displacement (actuated - initial) against the model
 // and the baseline at the test's pressures, and its hysteresis (|final -
 // initial|, thesis 4.1.3).
@@ -348,7 +375,6 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
   const double rest_s = score->windows[kFinalWindow].end_s -
                         score->windows[kActuatedWindow].end_s;
   const bool final_settled = rest_s >= 1.5 * plan.window_s;
-  bool hysteresis_ok = true;
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     HeadScore& head = score->heads.emplace_back();
     head.model_mm = model.segment<2>(2 * h);
@@ -362,15 +388,12 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
         (score->windows[kFinalWindow].median_mm[h] - initial).norm();
     head.hysteresis_judged = final_settled;
     head.hysteresis_ok = head.hysteresis_mm <= plan.hysteresis_tolerance_mm;
-    if (final_settled) hysteresis_ok &= head.hysteresis_ok;
-    head.uncertainty_mm =
-        std::sqrt(MedianVariance(score->windows[kInitialWindow], h) +
-                  MedianVariance(score->windows[kActuatedWindow], h));
   }
+  // "hysteresis" once the budgets show a head beyond the tolerance
+  // (JudgeAgainstUncertainty).
   score->status = !score->measured    ? "not measured"
                   : !score->predicted ? "no prediction"
-                  : hysteresis_ok     ? "ok"
-                                      : "hysteresis";
+                                      : "ok";
   if (score->measured && !score->predicted) {
     score->reason = fmt::format(
         "the {} finds no equilibrium at these pressures, so there is "
@@ -383,6 +406,77 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
         "release, too soon for the head to have settled (the video ends)",
         rest_s);
   }
+}
+
+// Each measured head's budgets: what the video shows of the codec and of
+// the dots' disagreement, then each change's own terms.
+void AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
+                std::vector<TestScore>* tests) {
+  const int num_heads = plan.mechanism.NumHeads();
+  std::vector<Eigen::Vector2d> jumps;
+  for (int h = 0; h < num_heads; ++h) {
+    const std::vector<Eigen::Vector2d> head = StillIntraJumps(measurement, h);
+    jumps.insert(jumps.end(), head.begin(), head.end());
+  }
+  for (int h = 0; h < num_heads; ++h) {
+    HeadUncertaintyContext context;
+    context.codec_jumps = static_cast<int>(jumps.size());
+    for (const Eigen::Vector2d& jump : jumps) {
+      // A jump is the difference of two independent levels (the one the
+      // codec repeated before the I picture and the one after).
+      context.codec_level_mm2 += 0.5 * jump.array().square().matrix() /
+                                 static_cast<double>(jumps.size());
+    }
+    std::vector<const WindowSummary*> windows;
+    for (const TestScore& t : *tests) {
+      if (!t.measured) continue;
+      windows.push_back(&t.windows[kInitialWindow]);
+      windows.push_back(&t.windows[kActuatedWindow]);
+    }
+    context.scale_relative =
+        LayoutScaleUncertainty(windows, h, plan.markers[h].layout_mm);
+    double squares = 0.0;
+    for (const TestScore& t : *tests) {
+      if (!t.measured) continue;
+      for (int k : {kActuatedWindow, kFinalWindow}) {
+        const RigidResidual r =
+            DotsRigidResidual(t.windows[kInitialWindow], t.windows[k], h);
+        squares += r.sum_of_squares_mm2;
+        context.dot_dof += r.dof;
+      }
+    }
+    if (context.dot_dof > 0) {
+      context.dot_sigma_mm = std::sqrt(squares / context.dot_dof);
+    }
+    for (TestScore& t : *tests) {
+      if (!t.measured) continue;
+      HeadScore& head = t.heads[h];
+      head.budget = ChangeBudget(t.windows[kInitialWindow],
+                                 t.windows[kActuatedWindow], h, context);
+      head.hysteresis_budget = ChangeBudget(
+          t.windows[kInitialWindow], t.windows[kFinalWindow], h, context);
+    }
+  }
+}
+
+// Each measured head's model error and hysteresis against the expanded
+// uncertainty U = 2u of the change behind it; a test with a head whose
+// hysteresis exceeds the tolerance by more than U is "hysteresis".
+void JudgeAgainstUncertainty(double tolerance_mm, TestScore* t) {
+  if (!t->measured) return;
+  bool exceeds = false;
+  for (HeadScore& head : t->heads) {
+    head.model_error_significant =
+        head.model_error_mm > 2.0 * head.budget.TotalMm();
+    if (!head.hysteresis_judged) continue;
+    const double expanded = 2.0 * head.hysteresis_budget.TotalMm();
+    head.hysteresis_verdict =
+        head.hysteresis_mm - tolerance_mm >= expanded   ? kHysteresisExceeds
+        : tolerance_mm - head.hysteresis_mm >= expanded ? kHysteresisWithin
+                                                        : kHysteresisCannotTell;
+    exceeds |= head.hysteresis_verdict == kHysteresisExceeds;
+  }
+  if (exceeds && t->status == "ok") t->status = "hysteresis";
 }
 
 // Per head, the error statistics of the model and the baseline over the
@@ -401,6 +495,27 @@ void SummariseErrors(int num_heads, ValidationResult* result) {
     const double base = result->baseline_errors[h].mean_mm;
     result->improvement_percent.push_back(
         100.0 * (base - result->model_errors[h].mean_mm) / base);
+  }
+}
+
+// The largest expanded uncertainty of a scored displacement, and how the
+// judged hysteresis verdicts fall.
+void SummariseUncertainty(ValidationResult* result) {
+  for (const TestScore& t : result->tests) {
+    if (!t.scored()) continue;
+    for (const HeadScore& head : t.heads) {
+      result->largest_expanded_mm = std::isnan(result->largest_expanded_mm)
+                                        ? 2.0 * head.budget.TotalMm()
+                                        : std::max(result->largest_expanded_mm,
+                                                   2.0 * head.budget.TotalMm());
+      if (head.hysteresis_verdict == kHysteresisExceeds) {
+        ++result->hysteresis_exceeds;
+      } else if (head.hysteresis_verdict == kHysteresisWithin) {
+        ++result->hysteresis_within;
+      } else if (head.hysteresis_verdict == kHysteresisCannotTell) {
+        ++result->hysteresis_cannot_tell;
+      }
+    }
   }
 }
 
@@ -519,6 +634,10 @@ ValidationResult ScoreTests(const TestPlan& plan,
     SummariseWindows(plan, measurement, options, &score);
     ScoreHeads(plan, baseline, &score);
   }
+  AddBudgets(plan, measurement, &result.tests);
+  for (TestScore& t : result.tests) {
+    JudgeAgainstUncertainty(plan.hysteresis_tolerance_mm, &t);
+  }
   result.warnings = CheckPlanConsistency(options, &result.tests);
   for (const TestScore& score : result.tests) {
     if (!score.matches_plan) result.mismatched.push_back(score.id);
@@ -527,6 +646,7 @@ ValidationResult ScoreTests(const TestPlan& plan,
     }
   }
   SummariseErrors(num_heads, &result);
+  SummariseUncertainty(&result);
   result.repeats = Repeats(result.tests, num_heads);
   result.hysteresis_cause =
       SharedCause(plan, result.tests, result.hysteresis_flagged);

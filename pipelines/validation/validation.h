@@ -10,6 +10,7 @@
 #include "model/actuator_model.h"
 #include "pipelines/formats/test_plan.h"
 #include "pipelines/measurement/video_measurement.h"
+#include "pipelines/validation/uncertainty_budget.h"
 
 namespace softbench {
 
@@ -55,6 +56,15 @@ struct WindowSummary {
   // (1.4826 x median absolute deviation), NaN when not measured.
   std::vector<Eigen::Vector2d> median_mm;
   std::vector<Eigen::Vector2d> spread_mm;
+  // The standard error of median_mm per axis [mm]: 1.2533 x spread over the
+  // root of the frames' effective number, which the lag-1 correlation of
+  // the frames' positions lowers (a still scene's codec repeats a frame's
+  // errors for seconds); NaN when not measured.
+  std::vector<Eigen::Vector2d> standard_error_mm;
+  // Per head and dot, the dot's median plane position [mm] over the frames
+  // with the head complete: the dots' disagreement is a term of the
+  // uncertainty budget (uncertainty_budget.h).
+  std::vector<std::vector<Eigen::Vector2d>> dot_median_mm;
   // The camera during the window (registered frames): its median shift
   // since the reference frame and how far it moved within the window (the
   // larger axis's 5-95 % range) [px]; frames not registered to the bench.
@@ -70,6 +80,11 @@ struct WindowSummary {
   double middle_s() const { return 0.5 * (start_s + end_s); }
 };
 
+// A hysteresis against the tolerance, given its expanded uncertainty U.
+inline constexpr const char* kHysteresisExceeds = "exceeds tolerance";
+inline constexpr const char* kHysteresisWithin = "within tolerance";
+inline constexpr const char* kHysteresisCannotTell = "cannot tell";
+
 struct HeadScore {
   Eigen::Vector2d measured_mm = Eigen::Vector2d::Constant(NAN);  // act - init
   Eigen::Vector2d model_mm = Eigen::Vector2d::Constant(NAN);
@@ -77,16 +92,22 @@ struct HeadScore {
   double model_error_mm = NAN;  // |measured - model| (figs. 4.9, 4.17)
   double baseline_error_mm = NAN;
   double hysteresis_mm = NAN;  // |final - initial|
-  bool hysteresis_ok = false;
+  bool hysteresis_ok = false;  // hysteresis_mm <= the tolerance
+  // hysteresis_mm against the tolerance with U = 2u of its change: "exceeds
+  // tolerance" (h - tolerance >= U), "within tolerance" (tolerance - h >=
+  // U) or "cannot tell"; empty when not judged.
+  std::string hysteresis_verdict;
   // False when the final window came too soon after the release for the
   // head to settle (a video that ends during the rest): hysteresis_mm is
   // then no evidence either way, and hysteresis_ok is not a verdict.
   bool hysteresis_judged = true;
-  // Standard uncertainty of measured_mm [mm] from the windows' own scatter:
-  // each window median's standard error (1.2533 x spread / sqrt(frames),
-  // per axis) for actuated and initial, in quadrature over both axes. A
-  // floor: frames within a window share slow errors (codec, drift).
-  double uncertainty_mm = NAN;
+  // The uncertainty of measured_mm and of the hysteresis's change (final -
+  // initial), term by term (uncertainty_budget.h).
+  UncertaintyBudget budget;
+  UncertaintyBudget hysteresis_budget;
+  // model_error_mm exceeds U = 2u of measured_mm: the error is the model's,
+  // not the measurement's.
+  bool model_error_significant = false;
 };
 
 struct TestScore {
@@ -143,6 +164,12 @@ struct ValidationResult {
   std::vector<std::string> hysteresis_flagged;  // test ids
   std::vector<std::string> mismatched;          // test ids (plan_consistency.h)
   std::string hysteresis_cause;  // what the flagged tests share, if anything
+  // Judged heads' hysteresis verdicts (HeadScore::hysteresis_verdict).
+  int hysteresis_exceeds = 0;
+  int hysteresis_within = 0;
+  int hysteresis_cannot_tell = 0;
+  // The largest U = 2u of a scored displacement [mm].
+  double largest_expanded_mm = NAN;
   std::vector<std::string> warnings;
   // The windows in which the camera moved (camera_motion_warning_px), each
   // once, as "b actuated" (a test's final window is the next one's

@@ -545,7 +545,8 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
   const std::string html = Read(Path("report/report.html"));
   for (const std::string& text :
        {std::string("<th>pressures [psi]</th>"),
-        std::string("<th>uncertainty [mm]</th>"),
+        std::string("<th>U = 2u [mm]</th>"),
+        std::string("<h2>Uncertainty budget</h2>"),
         std::string("<th>frames initial / actuated / final</th>"),
         std::string("<a href=\"results.csv\">"),
         std::string("<a href=\"summary.json\">"),
@@ -570,9 +571,9 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
   // Annotated crops: three windows of three tests.
   EXPECT_EQ(Count(Read(Path("report/report.html")), "<figure><svg"), 9);
 
-  // Only the windows' frames: the same results from fewer frames. A window's
-  // first frame after a seek is found afresh rather than tracked, so its
-  // centres may differ within the centre's iteration tolerance. Compared
+  // Only the windows' frames: the same displacements from fewer frames. A
+  // window's first frame after a seek is found afresh rather than tracked, so
+  // its centres may differ within the centre's iteration tolerance. Compared
   // with the camera taken to be still (a registered video's tag pose is
   // averaged over the frames read).
   options.no_registration = true;
@@ -592,8 +593,13 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
       if (x && y && column.rfind("frames_", 0) == 0) {
         // A window's first frame after a seek may fall one frame later.
         EXPECT_NEAR(*x, *y, 1.0) << column;
-      } else if (x && y && column == "uncertainty_mm") {
-        EXPECT_NEAR(*x, *y, 0.2 * *x + 2e-4) << column;
+      } else if (column.rfind("u_", 0) == 0 || column == "hysteresis_u_mm" ||
+                 column == "model_error_significant" ||
+                 column == "hysteresis_verdict") {
+        // The codec's term rests on the I pictures each run reads (all of
+        // them, or those near the windows; docs/uncertainty.md): both runs
+        // give a budget, not the same one.
+        EXPECT_EQ(a[k].empty(), w[k].empty()) << column;
       } else if (x && y) {
         EXPECT_NEAR(*x, *y, 2e-4) << column;
       } else {

@@ -94,8 +94,9 @@ TEST_F(ValidationReportData, ResultsCsvHasARowPerTestAndHeadWithUnits) {
   const auto rows = Rows("results.csv", ResultsCsv(v()), &header);
   ASSERT_EQ(rows.size(), 4u);  // three measured, one skipped; one head
   for (const char* column :
-       {"p1_psi", "p3_psi", "measured_dy_mm", "model_error_mm",
-        "uncertainty_mm", "pressure_unit", "video_sha256"}) {
+       {"p1_psi", "p3_psi", "measured_dy_mm", "model_error_mm", "u_dy_mm",
+        "u_dz_mm", "u_mm", "u_largest_term", "hysteresis_verdict",
+        "pressure_unit", "video_sha256"}) {
     EXPECT_NE(std::find(header.begin(), header.end(), column), header.end())
         << column;
   }

@@ -1,0 +1,247 @@
+#include "pipelines/validation/uncertainty_budget.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include "pipelines/measurement/video_measurement.h"
+#include "pipelines/validation/validation.h"
+#include "util/statistics.h"
+#include "vision/layout_scale.h"
+
+namespace softbench {
+
+std::string UncertaintyBudget::Largest() const {
+  std::string name;
+  double largest = -1.0;
+  for (const UncertaintyTerm& term : terms) {
+    if (term.u_mm.squaredNorm() > largest) {
+      largest = term.u_mm.squaredNorm();
+      name = term.name;
+    }
+  }
+  return name;
+}
+
+RigidResidual DotsRigidResidual(const WindowSummary& from,
+                                const WindowSummary& to, int h) {
+  return DotsRigidResidual(from.dot_median_mm[h], to.dot_median_mm[h]);
+}
+
+RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& a,
+                                const std::vector<Eigen::Vector2d>& b) {
+  const int n = static_cast<int>(a.size());
+  if (n < 3 || b.size() != a.size()) return {};
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero(),
+                  shift = Eigen::Vector2d::Zero();
+  for (int d = 0; d < n; ++d) {
+    centre += a[d] / n;
+    shift += (b[d] - a[d]) / n;
+  }
+  // A small turn w moves a dot at offset r by w (-r.y, r.x).
+  double num = 0.0, den = 0.0;
+  for (int d = 0; d < n; ++d) {
+    const Eigen::Vector2d r = a[d] - centre;
+    const Eigen::Vector2d perp(-r.y(), r.x());
+    num += perp.dot(b[d] - a[d] - shift);
+    den += r.squaredNorm();
+  }
+  const double turn = den > 0.0 ? num / den : 0.0;
+  RigidResidual residual;
+  for (int d = 0; d < n; ++d) {
+    const Eigen::Vector2d r = a[d] - centre;
+    const Eigen::Vector2d perp(-r.y(), r.x());
+    residual.sum_of_squares_mm2 +=
+        (b[d] - a[d] - shift - turn * perp).squaredNorm();
+  }
+  residual.dof = 2 * n - 3;
+  return residual;
+}
+
+namespace {
+
+// Whether `time_s` lies within `margin_s` of one of `windows`.
+bool NearAWindow(const std::vector<TimeSpan>& windows, double time_s,
+                 double margin_s) {
+  return std::any_of(windows.begin(), windows.end(), [&](const TimeSpan& w) {
+    return time_s >= w.start_s - margin_s && time_s < w.end_s + margin_s;
+  });
+}
+
+}  // namespace
+
+std::vector<TimeSpan> JumpSpans(const std::vector<TimeSpan>& windows,
+                                const std::vector<double>& key_frame_times_s,
+                                double frame_interval_s) {
+  const double side_s = (kJumpSideFrames + 0.5) * frame_interval_s;
+  std::vector<TimeSpan> spans;
+  for (double key_s : key_frame_times_s) {
+    if (NearAWindow(windows, key_s, side_s)) {
+      spans.push_back({key_s - side_s, key_s + side_s});
+    }
+  }
+  return spans;
+}
+
+std::vector<Eigen::Vector2d> StillIntraJumps(
+    const VideoMeasurement& measurement, int h, double still_px) {
+  constexpr int kMinSide = 3, kMaxSide = kJumpSideFrames;
+  constexpr double kMaxJumpStill = 10.0;
+  const std::vector<FrameSample>& frames = measurement.frames;
+  const double still_mm = still_px * measurement.mm_per_px;
+  const int n = static_cast<int>(frames.size());
+  // The head's positions on one side: frames i, i + step, ... while they
+  // follow each other in the video, measure the head and are no other I
+  // picture (after the first).
+  const auto side = [&](int i, int step) {
+    std::array<std::vector<double>, 2> values;
+    for (int j = i; j >= 0 && j < n && std::abs(j - i) < kMaxSide; j += step) {
+      const FrameSample& f = frames[j];
+      if (f.frame != frames[i].frame + (j - i) || (j != i && f.intra) ||
+          !f.registered || f.damaged || !f.heads[h].observation.complete) {
+        break;
+      }
+      values[0].push_back(f.heads[h].displacement_mm.x());
+      values[1].push_back(f.heads[h].displacement_mm.y());
+    }
+    return values;
+  };
+  const auto still = [&](const std::array<std::vector<double>, 2>& values) {
+    if (values[0].size() < static_cast<size_t>(kMinSide)) return false;
+    for (const std::vector<double>& axis : values) {
+      const auto [low, high] = std::minmax_element(axis.begin(), axis.end());
+      if (*high - *low > still_mm) return false;
+    }
+    return true;
+  };
+  std::vector<Eigen::Vector2d> jumps;
+  for (int i = 1; i < n; ++i) {
+    if (!frames[i].intra) continue;
+    const auto after = side(i, 1);
+    const auto before = side(i - 1, -1);
+    if (frames[i - 1].frame + 1 != frames[i].frame || frames[i - 1].intra ||
+        !still(after) || !still(before)) {
+      continue;
+    }
+    const Eigen::Vector2d jump(Median(after[0]) - Median(before[0]),
+                               Median(after[1]) - Median(before[1]));
+    // A head that stepped between two frames, not the codec.
+    if (jump.cwiseAbs().maxCoeff() > kMaxJumpStill * still_mm) continue;
+    jumps.push_back(jump);
+  }
+  return jumps;
+}
+
+Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement, int h) {
+  const std::vector<FrameSample>& frames = measurement.frames;
+  const auto usable = [&](const FrameSample& f) {
+    return f.registered && !f.damaged && f.heads[h].observation.complete;
+  };
+  Eigen::Vector2d variance = Eigen::Vector2d::Zero();
+  const int num_heads = frames.empty() ? 0 : frames[0].heads.size();
+  std::vector<Eigen::Vector2d> jumps;
+  for (int k = 0; k < num_heads; ++k) {
+    const std::vector<Eigen::Vector2d> head = StillIntraJumps(measurement, k);
+    jumps.insert(jumps.end(), head.begin(), head.end());
+  }
+  for (const Eigen::Vector2d& jump : jumps) {
+    // The frame's level and the rest's: two levels, each half a jump's
+    // mean square.
+    variance += jump.array().square().matrix() / jumps.size();
+  }
+  // Steps between consecutive frames of a still head.
+  const double still_mm = 0.05 * measurement.mm_per_px;
+  Eigen::Vector2d steps = Eigen::Vector2d::Zero();
+  int num_steps = 0;
+  std::optional<std::vector<Eigen::Vector2d>> first_dots;
+  double dot_squares = 0.0;
+  int dot_dof = 0;
+  std::vector<Eigen::Vector2d> dots;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const FrameSample& f = frames[i];
+    if (!usable(f)) continue;
+    if (i > 0 && !f.intra && usable(frames[i - 1]) &&
+        frames[i - 1].frame + 1 == f.frame) {
+      const Eigen::Vector2d step =
+          f.heads[h].displacement_mm - frames[i - 1].heads[h].displacement_mm;
+      if (step.cwiseAbs().maxCoeff() <= still_mm) {
+        steps += step.array().square().matrix();
+        ++num_steps;
+      }
+    }
+    dots.clear();
+    for (const DotObservation& d : f.heads[h].observation.dots) {
+      dots.push_back(d.plane_mm);
+    }
+    if (!first_dots) {
+      first_dots = dots;
+      continue;
+    }
+    const RigidResidual r = DotsRigidResidual(*first_dots, dots);
+    dot_squares += r.sum_of_squares_mm2;
+    dot_dof += r.dof;
+  }
+  if (num_steps > 0) variance += 0.5 * steps / num_steps;
+  if (dot_dof > 0 && !dots.empty()) {
+    variance += Eigen::Vector2d::Constant(dot_squares / dot_dof / dots.size());
+  }
+  return variance.array().sqrt();
+}
+
+double LayoutScaleUncertainty(const std::vector<const WindowSummary*>& windows,
+                              int h,
+                              const std::vector<Eigen::Vector2d>& layout_mm) {
+  const auto sum = [](const std::vector<double>& values) {
+    double total = 0.0;
+    for (double v : values) total += v;
+    return total;
+  };
+  const double nominal = sum(PairDistances(layout_mm));
+  std::vector<double> ratios;
+  for (const WindowSummary* w : windows) {
+    const std::vector<Eigen::Vector2d>& dots = w->dot_median_mm[h];
+    if (dots.size() != layout_mm.size() || !(nominal > 0.0)) continue;
+    ratios.push_back(sum(PairDistances(dots)) / nominal);
+  }
+  if (ratios.empty()) return 0.0;
+  const double median = Median(ratios);
+  std::vector<double> deviations;
+  for (double r : ratios) deviations.push_back(std::abs(r - median));
+  const double spread = 1.4826 * Median(deviations);
+  return std::hypot(median - 1.0,
+                    spread / std::sqrt(static_cast<double>(ratios.size())));
+}
+
+UncertaintyBudget ChangeBudget(const WindowSummary& from,
+                               const WindowSummary& to, int h,
+                               const HeadUncertaintyContext& context) {
+  UncertaintyBudget budget;
+  const Eigen::Vector2d scatter = (from.standard_error_mm[h].array().square() +
+                                   to.standard_error_mm[h].array().square())
+                                      .sqrt();
+  budget.terms.push_back({"window scatter", scatter});
+  const int dots = static_cast<int>(from.dot_median_mm[h].size());
+  if (context.dot_dof > 0 && dots > 0) {
+    budget.terms.push_back({"dots", Eigen::Vector2d::Constant(
+                                        context.dot_sigma_mm /
+                                        std::sqrt(static_cast<double>(dots)))});
+  }
+  if (context.codec_jumps > 0) {
+    budget.terms.push_back(
+        {"codec", (2.0 * context.codec_level_mm2).array().sqrt()});
+  }
+  if (context.scale_relative > 0.0) {
+    const double length = (to.median_mm[h] - from.median_mm[h]).norm();
+    budget.terms.push_back(
+        {"scale", Eigen::Vector2d::Constant(context.scale_relative * length)});
+  }
+  Eigen::Vector2d variance = Eigen::Vector2d::Zero();
+  for (const UncertaintyTerm& term : budget.terms) {
+    variance += term.u_mm.array().square().matrix();
+  }
+  budget.u_mm = variance.array().sqrt();
+  return budget;
+}
+
+}  // namespace softbench

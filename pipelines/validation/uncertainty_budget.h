@@ -1,0 +1,120 @@
+#ifndef SOFTBENCH_PIPELINES_VALIDATION_UNCERTAINTY_BUDGET_H_
+#define SOFTBENCH_PIPELINES_VALIDATION_UNCERTAINTY_BUDGET_H_
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace softbench {
+
+struct TimeSpan;
+struct VideoMeasurement;
+struct WindowSummary;
+
+// One source of error in a measured change of a head's position.
+struct UncertaintyTerm {
+  std::string name;  // "dots", "window scatter", "registration", ...
+  // Standard uncertainty of the change's y and z [mm].
+  Eigen::Vector2d u_mm = Eigen::Vector2d::Zero();
+};
+
+// The standard uncertainty of a change of a head's position between two
+// windows (a displacement, or a hysteresis), term by term (GUM: independent
+// terms in quadrature). docs/uncertainty.md derives each term.
+struct UncertaintyBudget {
+  std::vector<UncertaintyTerm> terms;
+  Eigen::Vector2d u_mm = Eigen::Vector2d::Constant(NAN);  // per axis
+
+  // The two axes in quadrature [mm]: the standard uncertainty of the
+  // change's length in the sense that a two-dimensional normal error lies
+  // within it 63 % of the time and within 2u 98 % of the time.
+  double TotalMm() const { return u_mm.norm(); }
+  // The name of the term with the largest share, or "" without terms.
+  std::string Largest() const;
+};
+
+// What every change of one head in a video shares.
+struct HeadUncertaintyContext {
+  // How far the head's dots disagree about a change once the head's rigid
+  // motion (shift and turn) is taken out, pooled over the video's changes:
+  // one dot's standard uncertainty per axis [mm], and the degrees of freedom
+  // behind it (0: not estimable, fewer than three dots).
+  double dot_sigma_mm = 0.0;
+  int dot_dof = 0;
+  // The codec's error in a window's position, per axis [mm^2]: a still
+  // head's image is drawn afresh at each I picture and repeated, errors
+  // and all, until the next, so the window's frames share one error. Its
+  // variance is half the mean square jump of a still head's position at
+  // the I pictures (StillIntraJumps), `codec_jumps` of them (0: not
+  // estimable).
+  Eigen::Vector2d codec_level_mm2 = Eigen::Vector2d::Zero();
+  int codec_jumps = 0;
+  // The relative standard uncertainty of the dot plane's scale: how far the
+  // dots' spacing, measured through the mapping in each window, is from the
+  // plan's layout (the median offset, and the median's standard error),
+  // whether from the tag's size and pose, the lens or the camera's
+  // distance. It scales a change's length.
+  double scale_relative = 0.0;
+};
+
+// HeadUncertaintyContext::scale_relative from the windows' dot medians of
+// head `h` against its plan `layout_mm`; 0 without windows with dots.
+double LayoutScaleUncertainty(const std::vector<const WindowSummary*>& windows,
+                              int h,
+                              const std::vector<Eigen::Vector2d>& layout_mm);
+
+// The frames on each side of an I picture that its jump uses, at most.
+inline constexpr int kJumpSideFrames = 8;
+
+// How far head `h`'s position jumps at each I picture of `measurement`
+// around which it is still [mm]: the median of the frames from the I
+// picture on less that of the frames before it, each side 3 to
+// kJumpSideFrames consecutive frames with the head complete, none of them
+// another I picture, and each side within `still_px` (at the
+// measurement's scale) on both axes; a jump of more than 10 `still_px` is a
+// head that moved between two frames, not the codec, and is left out.
+// Every still I picture of the video counts where every frame was read:
+// the more states of the codec it sees, the less it depends on where the
+// I pictures fall against the windows (a plan whose period is a multiple
+// of the key-frame interval puts them at the same place in every test).
+std::vector<Eigen::Vector2d> StillIntraJumps(
+    const VideoMeasurement& measurement, int h, double still_px = 0.05);
+
+// The stretches of video a run that reads only `windows` reads besides them
+// so that StillIntraJumps has I pictures to see: kJumpSideFrames frames (of
+// `frame_interval_s`) on each side of every key frame within that many
+// frames of a window (more would cost a decode of most of the video).
+std::vector<TimeSpan> JumpSpans(const std::vector<TimeSpan>& windows,
+                                const std::vector<double>& key_frame_times_s,
+                                double frame_interval_s);
+
+// The dots' disagreement about the change from `from` to `to` for head `h`:
+// the residual sum of squares [mm^2] of a rigid fit (shift and turn) to the
+// dots' changes, and its degrees of freedom (2 n - 3; 0 with fewer than
+// three dots or a window without them).
+struct RigidResidual {
+  double sum_of_squares_mm2 = 0.0;
+  int dof = 0;
+};
+RigidResidual DotsRigidResidual(const WindowSummary& from,
+                                const WindowSummary& to, int h);
+// The same for two sets of the same dots (in the same order).
+RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& from,
+                                const std::vector<Eigen::Vector2d>& to);
+
+// The standard uncertainty of head `h`'s position in one frame against its
+// rest position, per axis [mm], from what needs no windows (track's
+// trajectory): the codec's level in the frame and at rest, the frames'
+// own scatter (half the mean square step between consecutive frames of a
+// still head, not across an I picture), and the dots' disagreement against
+// the first frame that has them all, pooled over the video.
+Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement, int h);
+
+// The budget of head `h`'s change from window `from` to window `to`.
+UncertaintyBudget ChangeBudget(const WindowSummary& from,
+                               const WindowSummary& to, int h,
+                               const HeadUncertaintyContext& context);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_VALIDATION_UNCERTAINTY_BUDGET_H_
