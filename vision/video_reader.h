@@ -61,9 +61,6 @@ struct VideoInfo {
   // Every frame's presentation time in order, from the container's packets:
   // phones write variable frame rate, so frame k is not at k / fps.
   std::vector<double> frame_times_s;
-  // The presentation times of the container's key frames (where a seek can
-  // start decoding), in order.
-  std::vector<double> key_frame_times_s;
   // The median interval between frames, and whether the intervals vary by
   // more than 1 % (variable frame rate).
   double frame_interval_s = 0.0;

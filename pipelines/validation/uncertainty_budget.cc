@@ -59,34 +59,9 @@ RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& a,
   return residual;
 }
 
-namespace {
-
-// Whether `time_s` lies within `margin_s` of one of `windows`.
-bool NearAWindow(const std::vector<TimeSpan>& windows, double time_s,
-                 double margin_s) {
-  return std::any_of(windows.begin(), windows.end(), [&](const TimeSpan& w) {
-    return time_s >= w.start_s - margin_s && time_s < w.end_s + margin_s;
-  });
-}
-
-}  // namespace
-
-std::vector<TimeSpan> JumpSpans(const std::vector<TimeSpan>& windows,
-                                const std::vector<double>& key_frame_times_s,
-                                double frame_interval_s) {
-  const double side_s = (kJumpSideFrames + 0.5) * frame_interval_s;
-  std::vector<TimeSpan> spans;
-  for (double key_s : key_frame_times_s) {
-    if (NearAWindow(windows, key_s, side_s)) {
-      spans.push_back({key_s - side_s, key_s + side_s});
-    }
-  }
-  return spans;
-}
-
 std::vector<Eigen::Vector2d> StillIntraJumps(
     const VideoMeasurement& measurement, int h, double still_px) {
-  constexpr int kMinSide = 3, kMaxSide = kJumpSideFrames;
+  constexpr int kMinSide = 3, kMaxSide = 8;
   constexpr double kMaxJumpStill = 10.0;
   const std::vector<FrameSample>& frames = measurement.frames;
   const double still_mm = still_px * measurement.mm_per_px;

@@ -7,7 +7,6 @@
 
 namespace softbench {
 
-struct TimeSpan;
 struct VideoMeasurement;
 struct WindowSummary;
 
@@ -63,13 +62,10 @@ double LayoutScaleUncertainty(const std::vector<const WindowSummary*>& windows,
                               int h,
                               const std::vector<Eigen::Vector2d>& layout_mm);
 
-// The frames on each side of an I picture that its jump uses, at most.
-inline constexpr int kJumpSideFrames = 8;
-
 // How far head `h`'s position jumps at each I picture of `measurement`
 // around which it is still [mm]: the median of the frames from the I
-// picture on less that of the frames before it, each side 3 to
-// kJumpSideFrames consecutive frames with the head complete, none of them
+// picture on less that of the frames before it, each side 3 to 8
+// consecutive frames with the head complete, none of them
 // another I picture, and each side within `still_px` (at the
 // measurement's scale) on both axes; a jump of more than 10 `still_px` is a
 // head that moved between two frames, not the codec, and is left out.
@@ -79,14 +75,6 @@ inline constexpr int kJumpSideFrames = 8;
 // of the key-frame interval puts them at the same place in every test).
 std::vector<Eigen::Vector2d> StillIntraJumps(
     const VideoMeasurement& measurement, int h, double still_px = 0.05);
-
-// The stretches of video a run that reads only `windows` reads besides them
-// so that StillIntraJumps has I pictures to see: kJumpSideFrames frames (of
-// `frame_interval_s`) on each side of every key frame within that many
-// frames of a window (more would cost a decode of most of the video).
-std::vector<TimeSpan> JumpSpans(const std::vector<TimeSpan>& windows,
-                                const std::vector<double>& key_frame_times_s,
-                                double frame_interval_s);
 
 // The dots' disagreement about the change from `from` to `to` for head `h`:
 // the residual sum of squares [mm^2] of a rigid fit (shift and turn) to the

@@ -9,7 +9,6 @@
 #include <iterator>
 
 #include "pipelines/measurement/snapshots.h"
-#include "pipelines/validation/uncertainty_budget.h"
 #include "util/check.h"
 #include "util/file_digest.h"
 #include "util/input_error.h"
@@ -48,12 +47,6 @@ VideoMeasurementOptions MeasurementOptions(
         measure.spans.push_back({w.start_s, w.end_s});
       }
     }
-    // The frames around the key frames near the windows, for the codec's
-    // term of the uncertainty (uncertainty_budget.h).
-    const std::vector<TimeSpan> jumps =
-        JumpSpans(measure.spans, reader.info().key_frame_times_s,
-                  reader.info().frame_interval_s);
-    measure.spans.insert(measure.spans.end(), jumps.begin(), jumps.end());
   }
   return measure;
 }
