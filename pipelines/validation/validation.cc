@@ -159,6 +159,7 @@ std::optional<std::string> ValidationOptions::Problem() const {
   if (!(mismatch_min_mm > 0.0) || !(mismatch_fraction > 0.0)) {
     return "mismatch_min_mm and mismatch_fraction must be > 0";
   }
+  if (min_codec_jumps < 0) return "min_codec_jumps must be >= 0";
   if (!(better_match_ratio > 0.0 && better_match_ratio < 1.0) ||
       !(better_match_margin_mm >= 0.0)) {
     return "better_match_ratio must be in (0, 1), better_match_margin_mm >= 0";
@@ -410,8 +411,9 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
 
 // Each measured head's budgets: what the video shows of the codec and of
 // the dots' disagreement, then each change's own terms.
-void AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
-                std::vector<TestScore>* tests) {
+// Returns how many jumps at I pictures the codec's term rests on.
+int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
+               std::vector<TestScore>* tests) {
   const int num_heads = plan.mechanism.NumHeads();
   std::vector<Eigen::Vector2d> jumps;
   for (int h = 0; h < num_heads; ++h) {
@@ -457,6 +459,7 @@ void AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
           t.windows[kInitialWindow], t.windows[kFinalWindow], h, context);
     }
   }
+  return static_cast<int>(jumps.size());
 }
 
 // Each measured head's model error and hysteresis against the expanded
@@ -588,6 +591,24 @@ void WarnAboutSettling(const TestPlan& plan, ValidationResult* result) {
   }
 }
 
+// A codec term measured on too few jumps at I pictures, or not at all.
+void WarnAboutCodecTerm(int jumps, const VideoMeasurement& measurement,
+                        const ValidationOptions& options,
+                        ValidationResult* result) {
+  if (jumps < options.min_codec_jumps) {
+    result->warnings.push_back(fmt::format(
+        "the uncertainties' codec term rests on {} jumps of a still head at "
+        "an I picture, fewer than {}, so u may be too small (a codec "
+        "repeats a still head's errors from one I picture to the next; "
+        "docs/uncertainty.md){}",
+        jumps, options.min_codec_jumps,
+        measurement.every_frame
+            ? ""
+            : "; only the windows were read: validate without "
+              "--windows-only for a budget that holds"));
+  }
+}
+
 // Frames lost to damaged video data, in the video and per window.
 void WarnAboutDamage(const VideoMeasurement& measurement,
                      ValidationResult* result) {
@@ -634,7 +655,7 @@ ValidationResult ScoreTests(const TestPlan& plan,
     SummariseWindows(plan, measurement, options, &score);
     ScoreHeads(plan, baseline, &score);
   }
-  AddBudgets(plan, measurement, &result.tests);
+  const int codec_jumps = AddBudgets(plan, measurement, &result.tests);
   for (TestScore& t : result.tests) {
     JudgeAgainstUncertainty(plan.hysteresis_tolerance_mm, &t);
   }
@@ -654,6 +675,7 @@ ValidationResult ScoreTests(const TestPlan& plan,
   WarnCameraMotion(result.tests, measurement, &result);
   WarnAboutDamage(measurement, &result);
   WarnAboutSettling(plan, &result);
+  WarnAboutCodecTerm(codec_jumps, measurement, options, &result);
   for (const TestScore& score : result.tests) {
     if (!score.beyond_reach.empty()) {
       result.warnings.push_back(fmt::format(

@@ -42,6 +42,11 @@ struct ValidationOptions {
   // the signature of tests swapped or shifted against the plan.
   double better_match_ratio = 0.25;
   double better_match_margin_mm = 0.3;
+  // Fewer jumps of a still head at I pictures than this leave the
+  // uncertainty's codec term poorly measured (or missing), and are warned
+  // about (uncertainty_budget.h). 10 jumps give its variance to about
+  // +-45 % (95 %).
+  int min_codec_jumps = 10;
 
   std::optional<std::string> Problem() const;
 };

@@ -169,6 +169,22 @@ TEST(UncertaintyBudget, CoversCodecLikeErrorsAtTheStatedRates) {
   ExpectCoverageTargets(errors, u);
 }
 
+// Without still I pictures the codec's term cannot be measured, and the
+// result says so; with enough of them it does not.
+TEST(ScoreTests, WarnsWhenTheCodecTermRestsOnTooFewJumps) {
+  const TestPlan plan = ManyTestsPlan(8);
+  const auto warned = [&](const VideoMeasurement& m) {
+    for (const std::string& w :
+         ScoreTests(plan, m, ValidationOptions()).warnings) {
+      if (w.find("codec term rests on") != std::string::npos) return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(warned(HeldMeasurement(plan, 50.0, 0.0)));  // no I picture
+  EXPECT_FALSE(
+      warned(CodecLikeMeasurement(plan, 50.0, 37, 0.004, 0.003, 0.0005, 1)));
+}
+
 // A head still between I pictures jumps at each by the difference of two
 // levels; a moving head gives no jumps.
 TEST(StillIntraJumps, MeasuresTheLevelsOfAStillHeadOnly) {
