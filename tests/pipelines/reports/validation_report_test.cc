@@ -193,20 +193,28 @@ TEST_F(ValidationReportData, PositionChartHasEqualAxesAroundEveryPoint) {
     EXPECT_GE(p["z"].get<double>(), z[0].get<double>());
     EXPECT_LE(p["z"].get<double>(), z[1].get<double>());
   }
-  EXPECT_EQ(series,
-            (std::set<std::string>{"measured", v().result.model_name,
-                                   v().result.baseline_name, "error line"}));
+  EXPECT_EQ(series, (std::set<std::string>{"measured", v().result.model_name,
+                                           v().result.baseline_name,
+                                           "error line", "U = 2u ellipse"}));
 }
 
 TEST_F(ValidationReportData, ErrorChartHasBothModelsForEveryScoredTest) {
   const json chart = ErrorChart(v().plan, v().result);
+  // Two bars (model and baseline) and the measurement's U per test.
   std::map<std::string, int> bars_per_test;
   for (const json& bar : chart["data"]["values"]) {
     ++bars_per_test[bar["test"].get<std::string>()];
     EXPECT_GE(bar["error"].get<double>(), 0.0);
+    if (bar["model"] == "U = 2u of the measurement") {
+      const auto t =
+          std::find_if(v().result.tests.begin(), v().result.tests.end(),
+                       [&](const TestScore& s) { return s.id == bar["test"]; });
+      ASSERT_NE(t, v().result.tests.end());
+      EXPECT_EQ(bar["error"].get<double>(), 2.0 * t->heads[0].budget.TotalMm());
+    }
   }
   EXPECT_EQ(bars_per_test,
-            (std::map<std::string, int>{{"t1", 2}, {"t2", 2}, {"t3", 2}}));
+            (std::map<std::string, int>{{"t1", 3}, {"t2", 3}, {"t3", 3}}));
 }
 
 // Windows-only runs read some frames: the trajectory's lines break at the
