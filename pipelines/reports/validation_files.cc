@@ -25,9 +25,10 @@ std::string TrajectoryCsv(const TestPlan& plan,
       "registered,camera_dx_px,camera_dy_px,camera_roll_rad,note\n";
   // Each head's standard uncertainty in a frame (the terms that need no
   // windows), where its position is measured.
+  const CodecLevel codec = MeasureCodecLevel(measurement);
   std::vector<Eigen::Vector2d> u;
   for (size_t h = 0; h < plan.markers.size(); ++h) {
-    u.push_back(FrameUncertaintyMm(measurement, static_cast<int>(h)));
+    u.push_back(FrameUncertaintyMm(measurement, codec, static_cast<int>(h)));
   }
   for (const FrameSample& f : measurement.frames) {
     for (size_t h = 0; h < f.heads.size(); ++h) {

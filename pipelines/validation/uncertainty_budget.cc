@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 #include <optional>
 
 #include "pipelines/measurement/video_measurement.h"
@@ -108,25 +109,32 @@ std::vector<Eigen::Vector2d> StillIntraJumps(
   return jumps;
 }
 
-Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement, int h) {
+CodecLevel MeasureCodecLevel(const VideoMeasurement& measurement) {
+  CodecLevel codec;
+  const size_t num_heads =
+      measurement.frames.empty() ? 0 : measurement.frames[0].heads.size();
+  Eigen::Vector2d squares = Eigen::Vector2d::Zero();
+  for (size_t h = 0; h < num_heads; ++h) {
+    for (const Eigen::Vector2d& jump :
+         StillIntraJumps(measurement, static_cast<int>(h))) {
+      squares += jump.array().square().matrix();
+      ++codec.jumps;
+    }
+  }
+  if (codec.jumps > 0) codec.variance_mm2 = 0.5 * squares / codec.jumps;
+  return codec;
+}
+
+Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement,
+                                   const CodecLevel& codec, int h) {
   const std::vector<FrameSample>& frames = measurement.frames;
   const auto usable = [&](const FrameSample& f) {
     return f.registered && !f.damaged && f.heads[h].observation.complete;
   };
-  Eigen::Vector2d variance = Eigen::Vector2d::Zero();
-  const int num_heads = frames.empty() ? 0 : frames[0].heads.size();
-  std::vector<Eigen::Vector2d> jumps;
-  for (int k = 0; k < num_heads; ++k) {
-    const std::vector<Eigen::Vector2d> head = StillIntraJumps(measurement, k);
-    jumps.insert(jumps.end(), head.begin(), head.end());
-  }
-  for (const Eigen::Vector2d& jump : jumps) {
-    // The frame's level and the rest's: two levels, each half a jump's
-    // mean square.
-    variance += jump.array().square().matrix() / jumps.size();
-  }
+  // The frame's level and the rest's.
+  Eigen::Vector2d variance = 2.0 * codec.variance_mm2;
   // Steps between consecutive frames of a still head.
-  const double still_mm = 0.05 * measurement.mm_per_px;
+  const double still_mm = kStillPx * measurement.mm_per_px;
   Eigen::Vector2d steps = Eigen::Vector2d::Zero();
   int num_steps = 0;
   std::optional<std::vector<Eigen::Vector2d>> first_dots;
@@ -168,9 +176,7 @@ double LayoutScaleUncertainty(const std::vector<const WindowSummary*>& windows,
                               int h,
                               const std::vector<Eigen::Vector2d>& layout_mm) {
   const auto sum = [](const std::vector<double>& values) {
-    double total = 0.0;
-    for (double v : values) total += v;
-    return total;
+    return std::accumulate(values.begin(), values.end(), 0.0);
   };
   const double nominal = sum(PairDistances(layout_mm));
   std::vector<double> ratios;

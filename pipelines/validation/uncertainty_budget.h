@@ -12,7 +12,7 @@ struct WindowSummary;
 
 // One source of error in a measured change of a head's position.
 struct UncertaintyTerm {
-  std::string name;  // "dots", "window scatter", "registration", ...
+  std::string name;  // "window scatter", "dots", "codec", "scale"
   // Standard uncertainty of the change's y and z [mm].
   Eigen::Vector2d u_mm = Eigen::Vector2d::Zero();
 };
@@ -62,6 +62,10 @@ double LayoutScaleUncertainty(const std::vector<const WindowSummary*>& windows,
                               int h,
                               const std::vector<Eigen::Vector2d>& layout_mm);
 
+// Consecutive positions of a head within this [px] of each other are a
+// head at rest (a settling head moves 0.03 px a frame 1 s after a 1 mm step).
+inline constexpr double kStillPx = 0.05;
+
 // How far head `h`'s position jumps at each I picture of `measurement`
 // around which it is still [mm]: the median of the frames from the I
 // picture on less that of the frames before it, each side 3 to 8
@@ -74,7 +78,18 @@ double LayoutScaleUncertainty(const std::vector<const WindowSummary*>& windows,
 // I pictures fall against the windows (a plan whose period is a multiple
 // of the key-frame interval puts them at the same place in every test).
 std::vector<Eigen::Vector2d> StillIntraJumps(
-    const VideoMeasurement& measurement, int h, double still_px = 0.05);
+    const VideoMeasurement& measurement, int h, double still_px = kStillPx);
+
+// The codec's error in one window's position, pooled over a video's heads:
+// the variance per axis [mm^2], half the mean square of StillIntraJumps
+// (a jump is the difference of two independent levels, the one the codec
+// repeated before the I picture and the one after), and how many jumps it
+// rests on (0: not measured).
+struct CodecLevel {
+  Eigen::Vector2d variance_mm2 = Eigen::Vector2d::Zero();
+  int jumps = 0;
+};
+CodecLevel MeasureCodecLevel(const VideoMeasurement& measurement);
 
 // The dots' disagreement about the change from `from` to `to` for head `h`:
 // the residual sum of squares [mm^2] of a rigid fit (shift and turn) to the
@@ -95,8 +110,10 @@ RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& from,
 // trajectory): the codec's level in the frame and at rest, the frames'
 // own scatter (half the mean square step between consecutive frames of a
 // still head, not across an I picture), and the dots' disagreement against
-// the first frame that has them all, pooled over the video.
-Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement, int h);
+// the first frame that has them all, pooled over the video. `codec` is
+// MeasureCodecLevel(measurement), measured once for every head.
+Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement,
+                                   const CodecLevel& codec, int h);
 
 // The budget of head `h`'s change from window `from` to window `to`.
 UncertaintyBudget ChangeBudget(const WindowSummary& from,

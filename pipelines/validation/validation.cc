@@ -414,27 +414,17 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
 // Returns how many jumps at I pictures the codec's term rests on.
 int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
                std::vector<TestScore>* tests) {
-  const int num_heads = plan.mechanism.NumHeads();
-  std::vector<Eigen::Vector2d> jumps;
-  for (int h = 0; h < num_heads; ++h) {
-    const std::vector<Eigen::Vector2d> head = StillIntraJumps(measurement, h);
-    jumps.insert(jumps.end(), head.begin(), head.end());
+  const CodecLevel codec = MeasureCodecLevel(measurement);
+  std::vector<const WindowSummary*> windows;
+  for (const TestScore& t : *tests) {
+    if (!t.measured) continue;
+    windows.push_back(&t.windows[kInitialWindow]);
+    windows.push_back(&t.windows[kActuatedWindow]);
   }
-  for (int h = 0; h < num_heads; ++h) {
+  for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {
     HeadUncertaintyContext context;
-    context.codec_jumps = static_cast<int>(jumps.size());
-    for (const Eigen::Vector2d& jump : jumps) {
-      // A jump is the difference of two independent levels (the one the
-      // codec repeated before the I picture and the one after).
-      context.codec_level_mm2 += 0.5 * jump.array().square().matrix() /
-                                 static_cast<double>(jumps.size());
-    }
-    std::vector<const WindowSummary*> windows;
-    for (const TestScore& t : *tests) {
-      if (!t.measured) continue;
-      windows.push_back(&t.windows[kInitialWindow]);
-      windows.push_back(&t.windows[kActuatedWindow]);
-    }
+    context.codec_jumps = codec.jumps;
+    context.codec_level_mm2 = codec.variance_mm2;
     context.scale_relative =
         LayoutScaleUncertainty(windows, h, plan.markers[h].layout_mm);
     double squares = 0.0;
@@ -459,7 +449,7 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
           t.windows[kInitialWindow], t.windows[kFinalWindow], h, context);
     }
   }
-  return static_cast<int>(jumps.size());
+  return codec.jumps;
 }
 
 // Each measured head's model error and hysteresis against the expanded
@@ -507,10 +497,9 @@ void SummariseUncertainty(ValidationResult* result) {
   for (const TestScore& t : result->tests) {
     if (!t.scored()) continue;
     for (const HeadScore& head : t.heads) {
-      result->largest_expanded_mm = std::isnan(result->largest_expanded_mm)
-                                        ? 2.0 * head.budget.TotalMm()
-                                        : std::max(result->largest_expanded_mm,
-                                                   2.0 * head.budget.TotalMm());
+      // fmax ignores the NaN the largest starts as.
+      result->largest_expanded_mm =
+          std::fmax(result->largest_expanded_mm, 2.0 * head.budget.TotalMm());
       if (head.hysteresis_verdict == kHysteresisExceeds) {
         ++result->hysteresis_exceeds;
       } else if (head.hysteresis_verdict == kHysteresisWithin) {
