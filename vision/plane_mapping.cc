@@ -103,6 +103,22 @@ double PlaneMapping::CameraHeightMm() const {
   return -(camera_.camera_from_world().transpose() * camera_.translation()).z();
 }
 
+CameraAbovePlane PlaneMapping::CameraAbove() const {
+  // normalized_from_plane = s [r1 r2 t'] for the plane's axes r1, r2 in the
+  // camera's frame and its origin t'; the centre is -R^T t' in the plane's
+  // frame. The scale's sign cancels in r_i . t', and the height's sign is
+  // that of the normal's choice, so it is taken positive.
+  const double s = 0.5 * (normalized_from_plane_.col(0).norm() +
+                          normalized_from_plane_.col(1).norm());
+  const Eigen::Vector3d r1 = normalized_from_plane_.col(0) / s;
+  const Eigen::Vector3d r2 = normalized_from_plane_.col(1) / s;
+  const Eigen::Vector3d t = normalized_from_plane_.col(2) / s;
+  CameraAbovePlane above;
+  above.foot_mm = Eigen::Vector2d(-r1.dot(t), -r2.dot(t));
+  above.height_mm = std::abs(r1.cross(r2).dot(t));
+  return above;
+}
+
 double PlaneMapping::TiltRad() const {
   // normalized_from_plane is [r1 r2 t] up to scale: the plane's axes in the
   // camera frame; their cross product is its normal.

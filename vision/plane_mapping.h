@@ -10,6 +10,16 @@
 
 namespace softbench {
 
+// Where the camera's centre is seen from the mapped plane: its foot (the
+// plane point straight below it) [mm, plane coordinates] and its height
+// above the plane [mm]. A point raised by h above the plane at p appears,
+// through the plane's mapping, at foot + (p - foot) H / (H - h): the
+// parallax a lifted head shows (issue 27).
+struct CameraAbovePlane {
+  Eigen::Vector2d foot_mm = Eigen::Vector2d::Zero();
+  double height_mm = 0.0;
+};
+
 // Image pixels to millimetres on the plane the dots move in, in the
 // mechanism's world axes (y, z). Lens distortion, when the intrinsics carry
 // it, is removed from the points (never by warping frames), then a
@@ -54,6 +64,10 @@ class PlaneMapping {
   // The camera's height above the tag's plane [mm], from the tag's pose
   // (0 for a mapping from a scale): a dot plane must lie below it.
   double CameraHeightMm() const;
+  // The camera's centre against the mapped plane, from the homography: a
+  // tag's pose, or for a mapping from a scale a fronto-parallel camera at
+  // fx mm_per_px (as right as the intrinsics' focal length).
+  CameraAbovePlane CameraAbove() const;
 
   const CameraIntrinsics& intrinsics() const { return camera_.intrinsics(); }
 

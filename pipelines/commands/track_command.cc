@@ -18,6 +18,7 @@ void AddTrackCommand(CLI::App* c, TrackCommandOptions* options) {
   AddOutOption(c, &options->output_path, "trajectory CSV to write")->required();
   AddRestOption(c, &options->rest_s);
   AddNoRegistrationFlag(c, &options->no_registration);
+  AddLiftCorrectionFlag(c, &options->lift_correction);
   c->add_flag("--full-frame", options->full_frame,
               "search the whole image in every frame (slow; for checks)");
 }
@@ -33,6 +34,7 @@ int RunTrack(const TrackCommandOptions& options, std::ostream& out) {
   measure.rest_s = options.rest_s;
   measure.tracker.full_frame_every_frame = options.full_frame;
   measure.register_frames = !options.no_registration;
+  measure.correct_lift = options.lift_correction;
   measure.progress = !options.quiet;
   const VideoMeasurement m = MeasureVideo(plan, options.video_path, measure);
   WriteFileAtomically(options.output_path, TrajectoryCsv(plan, m));

@@ -15,6 +15,7 @@ struct TrackCommandOptions {
   double rest_s = 1.0;           // rest window when the plan has no times
   bool full_frame = false;       // search the whole image in every frame
   bool no_registration = false;  // take the camera to be still
+  bool lift_correction = false;  // take out the heads' parallax
   bool quiet = false;
 };
 

@@ -124,6 +124,7 @@ void AddValidateCommand(CLI::App* c, ValidateCommandOptions* options) {
                 "its clock aligned by the motion");
   AddRestOption(c, &options->rest_s);
   AddNoRegistrationFlag(c, &options->no_registration);
+  AddLiftCorrectionFlag(c, &options->lift_correction);
   AddDecimalCommaFlag(c, &options->decimal_comma);
   c->add_flag("--windows-only", options->windows_only,
               "read only the frames of the tests' windows, seeking between "
@@ -139,6 +140,7 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   validation.rest_s = options.rest_s;
   validation.windows_only = options.windows_only;
   validation.register_frames = !options.no_registration;
+  validation.correct_lift = options.lift_correction;
   validation.progress = !options.quiet && options.video_paths.size() == 1;
   if (const std::optional<std::string> problem = validation.Problem()) {
     throw InputError("validate: " + *problem);

@@ -29,6 +29,7 @@ struct ValidateCommandOptions {
   // plan must give the times); trajectory.csv then holds those frames only.
   bool windows_only = false;
   bool no_registration = false;  // take the camera to be still
+  bool lift_correction = false;  // take out the heads' parallax
   bool decimal_comma = false;    // the pressure log writes 6,5 (declared)
   bool quiet = false;
   // Scoring and detection (no flags: their defaults are the thesis's).

@@ -333,10 +333,10 @@ void ParseTests(const YamlReader& reader, const YAML::Node& node,
 
 void ParseScene(const YamlReader& reader, const YAML::Node& node,
                 SceneSpec* scene) {
-  reader.CheckKeys(
-      node, "scene",
-      {"settle_time_constant_s", "creep_fraction", "creep_time_constant_s",
-       "head_side_mm", "lead_in_s", "hold_s", "rest_s"});
+  reader.CheckKeys(node, "scene",
+                   {"settle_time_constant_s", "creep_fraction",
+                    "creep_time_constant_s", "head_side_mm", "lead_in_s",
+                    "hold_s", "rest_s", "head_lift_mm", "head_tilt_deg"});
   // A bench scene's times are at most a day, its head at most a metre wide,
   // and creep a fraction of the motion: beyond these a value is a typo.
   const auto set = [&](const char* key, double* value, bool positive,
@@ -356,6 +356,10 @@ void ParseScene(const YamlReader& reader, const YAML::Node& node,
   set("lead_in_s", &scene->lead_in_s, false, 86400);
   set("hold_s", &scene->hold_s, true, 86400);
   set("rest_s", &scene->rest_s, true, 86400);
+  // A head a few millimetres up or a few degrees over is no longer a
+  // planar mechanism's: its actuators would bend out of their plane.
+  set("head_lift_mm", &scene->head_lift_mm, false, 5.0);
+  set("head_tilt_deg", &scene->head_tilt_deg, false, 10.0);
 }
 
 }  // namespace

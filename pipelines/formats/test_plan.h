@@ -84,6 +84,13 @@ struct SceneSpec {
   double lead_in_s = 2.0;     // before the first test, when times are made
   double hold_s = 5.0;        // actuate to release, when times are made
   double rest_s = 3.0;        // release to the next actuation / the end
+  // Heads out of the plane while actuated (issue 27): each test lifts each
+  // head toward the camera by up to head_lift_mm and tilts it by up to
+  // head_tilt_deg in a direction of its own, drawn per test and head from
+  // a fixed seed (the same for every render of the plan); at release the
+  // head settles back flat. 0: heads stay in the plane.
+  double head_lift_mm = 0.0;
+  double head_tilt_deg = 0.0;
 };
 
 // A test plan (docs/file-formats.md, "Test plan"): one format for `render` and

@@ -98,6 +98,10 @@ void EmitScene(const TestPlan& plan, YAML::Emitter* emitter) {
   out << YAML::Key << "lead_in_s" << YAML::Value << s.lead_in_s;
   out << YAML::Key << "hold_s" << YAML::Value << s.hold_s;
   out << YAML::Key << "rest_s" << YAML::Value << s.rest_s;
+  if (s.head_lift_mm > 0.0 || s.head_tilt_deg > 0.0) {
+    out << YAML::Key << "head_lift_mm" << YAML::Value << s.head_lift_mm;
+    out << YAML::Key << "head_tilt_deg" << YAML::Value << s.head_tilt_deg;
+  }
   out << YAML::EndMap;
 }
 

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -20,6 +21,15 @@ struct HeadSample {
   // found), from the luma-refined centres and from the thesis's binary ones.
   Eigen::Vector2d displacement_mm;
   Eigen::Vector2d binary_displacement_mm;
+  // The head's pose out of the plane against its rest (issue 27): its lift
+  // toward the camera [mm], its tilt about world y and z [rad], and the
+  // parallax they add to the dots' apparent centre [mm], which
+  // displacement_mm has taken out when the measurement corrects lift
+  // (binary_displacement_mm, the thesis's method, never). NaN when the
+  // head was not complete or its pose not found.
+  double lift_mm = NAN;
+  Eigen::Vector2d tilt_rad = Eigen::Vector2d::Constant(NAN);
+  Eigen::Vector2d parallax_mm = Eigen::Vector2d::Constant(NAN);
 };
 
 struct FrameSample {

@@ -24,6 +24,7 @@ std::optional<std::string> VideoMeasurementOptions::Problem() const {
   if (!(rest_s > 0.0)) return "rest_s must be > 0";
   if (auto problem = registration.Problem()) return problem;
   if (auto problem = camera_path.Problem()) return problem;
+  if (auto problem = plate_pose.Problem()) return "plate_pose: " + *problem;
   if (window_frames) {
     if (auto problem = window_frames->Problem()) {
       return "window_frames: " + *problem;
@@ -289,6 +290,7 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
     }
     m->rest_mm.emplace_back(Median(ys), Median(zs));
   }
+  m->rest_end_s = rest_end;
   for (FrameSample& f : m->frames) {
     for (size_t h = 0; h < f.heads.size(); ++h) {
       HeadSample& s = f.heads[h];
@@ -297,6 +299,55 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
           s.observation.binary_position_mm - m->rest_mm[h];
     }
   }
+}
+
+// Each head's dots at rest (the median of each over the rest frames that
+// have the head complete) and, in every frame with the head complete, its
+// pose against them; the parallax it adds is taken out of the displacement
+// when `options.correct_lift`.
+void MeasurePlatePoses(const VideoMeasurementOptions& options,
+                       VideoMeasurement* m) {
+  const CameraAbovePlane camera = m->mapping->CameraAbove();
+  m->lift_corrected = options.correct_lift;
+  for (size_t h = 0; h < m->rest_mm.size(); ++h) {
+    std::vector<std::vector<double>> ys, zs;
+    for (const FrameSample& f : m->frames) {
+      const HeadObservation& obs = f.heads[h].observation;
+      if (f.time_s >= m->rest_end_s || !obs.complete) continue;
+      ys.resize(obs.dots.size()), zs.resize(obs.dots.size());
+      for (size_t d = 0; d < obs.dots.size(); ++d) {
+        ys[d].push_back(obs.dots[d].plane_mm.x());
+        zs[d].push_back(obs.dots[d].plane_mm.y());
+      }
+    }
+    std::vector<Eigen::Vector2d> rest;
+    for (size_t d = 0; d < ys.size(); ++d) {
+      rest.emplace_back(Median(ys[d]), Median(zs[d]));
+    }
+    m->rest_dots_mm.push_back(rest);
+  }
+  RunParallelTasks(
+      static_cast<int>(m->frames.size()), 0,
+      [&](int i) {
+        FrameSample& f = m->frames[i];
+        for (size_t h = 0; h < f.heads.size(); ++h) {
+          HeadSample& s = f.heads[h];
+          const std::vector<Eigen::Vector2d>& rest = m->rest_dots_mm[h];
+          if (!s.observation.complete || rest.size() < 2) continue;
+          std::vector<Eigen::Vector2d> dots;
+          for (const DotObservation& d : s.observation.dots) {
+            dots.push_back(d.plane_mm);
+          }
+          const PlatePose pose =
+              FitPlatePose(rest, dots, camera, options.plate_pose);
+          if (!pose.found) continue;
+          s.lift_mm = pose.lift_mm;
+          s.tilt_rad = pose.tilt_rad;
+          s.parallax_mm = pose.parallax_mm;
+          if (options.correct_lift) s.displacement_mm -= pose.parallax_mm;
+        }
+      },
+      [] {});
 }
 
 // "every frame, by 40 static patches and tag 3 (the tag on one frame in 4
@@ -335,12 +386,13 @@ void CheckFramesRegistered(const VideoMeasurement& m) {
 
 // After the frames: checks, rest positions, displacements and the
 // distortion check.
-void Finish(const TestPlan& plan, const VideoInfo& info, double rest_s,
-            VideoMeasurement* m) {
+void Finish(const TestPlan& plan, const VideoInfo& info,
+            const VideoMeasurementOptions& options, VideoMeasurement* m) {
   CheckFramesRegistered(*m);
   m->last_frame_s =
       m->every_frame ? m->frames.back().time_s : info.LastFrameS();
-  SetDisplacements(plan, rest_s, m);
+  SetDisplacements(plan, options.rest_s, m);
+  MeasurePlatePoses(options, m);
   if (plan.calibration.intrinsics_path.empty()) {
     m->distortion = CheckDistortion(plan, m->frames, m->scale_source);
   }
@@ -423,7 +475,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
                      measurers.front().tracker(), options.camera_path,
                      info.frame_interval_s, &m.frames);
   }
-  Finish(plan, info, options.rest_s, &m);
+  Finish(plan, info, options, &m);
   return m;
 }
 

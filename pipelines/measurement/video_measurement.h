@@ -14,6 +14,7 @@
 #include "vision/camera_path.h"
 #include "vision/head_tracker.h"
 #include "vision/plane_mapping.h"
+#include "vision/plate_pose.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -37,6 +38,15 @@ struct VideoMeasurementOptions {
   bool register_frames = true;
   BenchRegistrationOptions registration;
   CameraPathOptions camera_path;
+  // Each head's lift and tilt out of the dot plane is measured in every
+  // frame from its dots against their rest (vision/plate_pose.h); with
+  // correct_lift the parallax they cause is taken out of its position, so
+  // the displacement is the head's motion in the plane (issue 27). Off by
+  // default: from three dots 11 mm apart the lift is known to about 0.1 mm
+  // at 1080p and 10 Mb/s, and a head 50 mm off the camera's axis would
+  // gain 0.01 mm of noise (docs/measurement.md, "Out of the plane").
+  bool correct_lift = false;
+  PlatePoseOptions plate_pose;
   // Only the frames in these spans are measured, seeking from one to the
   // next (validate --windows-only); empty: every frame.
   std::vector<TimeSpan> spans;
@@ -67,8 +77,15 @@ struct VideoMeasurement {
   std::string scale_source;  // "tag 0 (10 frames)", "mm_per_px", ...
   double mm_per_px = 0.0;    // at the image centre, dot plane
   std::vector<Eigen::Vector2d> rest_mm;  // per head, plane coordinates
-  std::vector<FrameSample> frames;       // in time order
-  double fps = 0.0;                      // average
+  double rest_end_s = 0.0;               // the rest's frames end here
+  // Per head, its dots' rest positions [mm] (medians over the rest): the
+  // reference of its lift and tilt (HeadSample::lift_mm).
+  std::vector<std::vector<Eigen::Vector2d>> rest_dots_mm;
+  // The displacements have the lift's parallax taken out
+  // (VideoMeasurementOptions::correct_lift).
+  bool lift_corrected = false;
+  std::vector<FrameSample> frames;  // in time order
+  double fps = 0.0;                 // average
   // The median interval between frames (phones write variable frame rate).
   double frame_interval_s = 0.0;
   // The video's format and colours (VideoInfo::Description()).

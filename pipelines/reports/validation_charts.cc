@@ -186,6 +186,54 @@ json ErrorChart(const TestPlan& plan, const ValidationResult& r) {
                {{"field", "error"}}}}}}}}}}}};
 }
 
+json LiftChart(const TestPlan& plan, const ValidationResult& r) {
+  json values = json::array();
+  for (const TestScore& t : r.tests) {
+    if (!t.measured) continue;
+    for (size_t h = 0; h < t.heads.size(); ++h) {
+      const HeadScore& s = t.heads[h];
+      if (!std::isfinite(s.lift_mm)) continue;
+      values.push_back({{"test", t.id},
+                        {"head", plan.mechanism.heads[h].name},
+                        {"lift_mm", s.lift_mm},
+                        {"low_mm", s.lift_mm - 2.0 * s.u_lift_mm},
+                        {"high_mm", s.lift_mm + 2.0 * s.u_lift_mm},
+                        {"shift_mm", s.lift_shift_mm}});
+    }
+  }
+  const json test_axis = {
+      {"field", "test"}, {"type", "nominal"}, {"sort", nullptr}};
+  const json tooltip = {{{"field", "test"}},
+                        {{"field", "lift_mm"}, {"title", "lift [mm]"}},
+                        {{"field", "high_mm"}, {"title", "lift + U [mm]"}},
+                        {{"field", "shift_mm"},
+                         {"title", "parallax shift of the displacement [mm]"}}};
+  return {{"$schema", kVegaLiteSchema},
+          {"title",
+           "Lift toward the camera per test point (actuated - initial), with "
+           "U = 2u"},
+          {"data", {{"values", values}}},
+          {"facet", {{"field", "head"}, {"type", "nominal"}}},
+          {"spec",
+           {{"width", 420},
+            {"height", 180},
+            {"layer",
+             {{{"mark", "rule"},
+               {"encoding",
+                {{"x", test_axis},
+                 {"y",
+                  {{"field", "low_mm"},
+                   {"type", "quantitative"},
+                   {"title", "lift [mm]"}}},
+                 {"y2", {{"field", "high_mm"}}},
+                 {"tooltip", tooltip}}}},
+              {{"mark", {{"type", "point"}, {"filled", true}}},
+               {"encoding",
+                {{"x", test_axis},
+                 {"y", {{"field", "lift_mm"}, {"type", "quantitative"}}},
+                 {"tooltip", tooltip}}}}}}}}};
+}
+
 namespace {
 
 // A chart over the video's time: the windows shaded (`window_colour` and

@@ -25,6 +25,10 @@ nlohmann::json PositionChart(const TestPlan& plan, const ValidationResult& r);
 
 // Fig. 4.9 / 4.17: error magnitude per scored test for both models.
 nlohmann::json ErrorChart(const TestPlan& plan, const ValidationResult& r);
+// Each head's lift toward the camera per measured test point (actuated
+// less initial), with its U = 2u, and the shift its parallax makes in the
+// displacement (issue 27).
+nlohmann::json LiftChart(const TestPlan& plan, const ValidationResult& r);
 
 // The trajectory of every head over time, with the windows shaded; lines
 // break where frames were not read (windows-only mode).

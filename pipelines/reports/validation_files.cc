@@ -21,7 +21,8 @@ std::string TrajectoryCsv(const TestPlan& plan,
                           const VideoMeasurement& measurement) {
   std::string csv =
       "frame,time_s,head,u_px,v_px,y_mm,z_mm,sigma_mm,u_y_mm,u_z_mm,"
-      "dots_found,dots,rotation_rad,binary_y_mm,binary_z_mm,full_frame,"
+      "dots_found,dots,rotation_rad,lift_mm,tilt_y_rad,tilt_z_rad,"
+      "binary_y_mm,binary_z_mm,full_frame,"
       "registered,camera_dx_px,camera_dy_px,camera_roll_rad,note\n";
   // Each head's standard uncertainty in a frame (the terms that need no
   // windows), where its position is measured.
@@ -37,14 +38,15 @@ std::string TrajectoryCsv(const TestPlan& plan,
       const bool located = s.displacement_mm.allFinite();
       csv += fmt::format(
           "{},{:.6f},{},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{},{},{},{},{:.6f},"
-          "{:.5f},{:.5f},{},{},{:.4f},{:.4f},{:.7f},{}\n",
+          "{:.4f},{:.6f},{:.6f},{:.5f},{:.5f},{},{},{:.4f},{:.4f},{:.7f},{}\n",
           f.frame, f.time_s,
           CsvField(plan.mechanism.heads[plan.markers[h].head].name),
           o.pixel.x(), o.pixel.y(), s.displacement_mm.x(),
           s.displacement_mm.y(), o.sigma_mm,
           located ? FormatMicrons(u[h].x()) : "nan",
           located ? FormatMicrons(u[h].y()) : "nan", o.dots_found,
-          o.dots.size(), o.rotation_rad, s.binary_displacement_mm.x(),
+          o.dots.size(), o.rotation_rad, s.lift_mm, s.tilt_rad.x(),
+          s.tilt_rad.y(), s.binary_displacement_mm.x(),
           s.binary_displacement_mm.y(), o.full_frame ? 1 : 0,
           f.registered ? 1 : 0, f.camera_shift_px.x(), f.camera_shift_px.y(),
           f.camera_roll_rad, CsvField(o.note));
@@ -97,6 +99,15 @@ std::string UncertaintyCells(const TestScore& t, const HeadScore& s) {
          CsvField(s.hysteresis_verdict);
 }
 
+// lift_mm, u_lift_mm, final_lift_mm, u_final_lift_mm and lift_shift_mm
+// where the test is measured (issue 27).
+std::string LiftCells(const TestScore& t, const HeadScore& s) {
+  if (!t.measured) return ",,,,";
+  return FormatMm(s.lift_mm) + "," + FormatMm(s.u_lift_mm) + "," +
+         FormatMm(s.final_lift_mm) + "," + FormatMm(s.u_final_lift_mm) + "," +
+         FormatMicrons(s.lift_shift_mm);
+}
+
 }  // namespace
 
 std::string ResultsCsv(const VideoValidation& v) {
@@ -114,6 +125,7 @@ std::string ResultsCsv(const VideoValidation& v) {
       "hysteresis_mm,hysteresis_ok,in_range,within_reach,status,reason,"
       "u_dy_mm,u_dz_mm,u_mm,u_largest_term,model_error_significant,"
       "hysteresis_u_mm,hysteresis_verdict,"
+      "lift_mm,u_lift_mm,final_lift_mm,u_final_lift_mm,lift_shift_mm,"
       "frames_initial,frames_actuated,frames_final" +
       ProvenanceHeader() + "\n";
   for (const TestScore& t : r.tests) {
@@ -143,7 +155,8 @@ std::string ResultsCsv(const VideoValidation& v) {
                                                 : "") +
              "," + (t.outside_range.empty() ? "1" : "0") + "," +
              (t.beyond_reach.empty() ? "1" : "0") + "," + CsvField(t.status) +
-             "," + CsvField(t.reason) + "," + UncertaintyCells(t, s);
+             "," + CsvField(t.reason) + "," + UncertaintyCells(t, s) + "," +
+             LiftCells(t, s);
       for (const WindowSummary& w : t.windows) {
         csv +=
             "," + (h < w.head_frames.size() ? std::to_string(w.head_frames[h])
@@ -158,7 +171,7 @@ std::string ResultsCsv(const VideoValidation& v) {
       csv += CsvField(t.id) + "," + CsvField(head.name);
       for (double p : t.pressures) csv += fmt::format(",{:g}", p);
       csv += std::string(18, ',') +  // 18 empty cells
-             ",skipped,skipped on the bench (the plan says so),,,,,,,,,," +
+             ",skipped,skipped on the bench (the plan says so),,,,,,,,,,,,,,," +
              provenance + "\n";
     }
   }
@@ -218,7 +231,13 @@ json TestJson(const TestPlan& plan, const TestScore& t) {
            {"displacement", BudgetJson(s.budget)},
            {"hysteresis", BudgetJson(s.hysteresis_budget)},
            {"model_error_significant", s.model_error_significant},
-           {"hysteresis_verdict", s.hysteresis_verdict}});
+           {"hysteresis_verdict", s.hysteresis_verdict},
+           {"lift",
+            {{"lift_mm", JsonNumber(s.lift_mm)},
+             {"u_lift_mm", JsonNumber(s.u_lift_mm)},
+             {"final_lift_mm", JsonNumber(s.final_lift_mm)},
+             {"u_final_lift_mm", JsonNumber(s.u_final_lift_mm)},
+             {"lift_shift_mm", JsonNumber(s.lift_shift_mm)}}}});
     }
   }
   return test;
@@ -261,6 +280,7 @@ json SummaryJson(const VideoValidation& v) {
                             {"never_decoded", m.lost_frame_times_s.size()}};
   root["frames"] = m.frames.size();
   root["every_frame"] = m.every_frame;
+  root["lift_corrected"] = m.lift_corrected;
   root["missing_dots"] = m.missing_dots;
   root["full_frame_frames"] = m.full_frame_frames;
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {

@@ -355,6 +355,11 @@ std::string ValidationReportHtml(const VideoValidation& v) {
   AddSummary(plan, r, &report);
   report.AddChart(PositionChart(plan, r));
   report.AddChart(ErrorChart(plan, r));
+  // Drawn where lifts were measured (a mapping's plate poses).
+  if (const nlohmann::json lift = LiftChart(plan, r);
+      !lift["data"]["values"].empty()) {
+    report.AddChart(lift);
+  }
   report.AddChart(TrajectoryChart(plan, m, r));
   if (m.registers_frames) report.AddChart(CameraMotionChart(m, r));
   report.AddHeading("Frames");

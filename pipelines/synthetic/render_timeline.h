@@ -13,7 +13,9 @@ namespace softbench {
 // release the rest position (plus any residual offset, which stays: a slip);
 // the heads follow the target with first-order settling (time constant
 // scene.settle_time_constant_s) and, while actuated, an optional creep toward
-// (1 + creep_fraction) times the equilibrium.
+// (1 + creep_fraction) times the equilibrium. Heads may also rise and tilt
+// out of the plane while actuated (scene.head_lift_mm, head_tilt_deg),
+// settling the same way.
 class HeadTimeline {
  public:
   // Throws InputError when a test's equilibrium cannot be found. `plan` must
@@ -22,6 +24,15 @@ class HeadTimeline {
 
   // Displacements (y1, z1, y2, z2, ...) [mm] from rest at `time_s`.
   Eigen::VectorXd DisplacementAt(double time_s) const;
+  // The heads' state at `time_s`: the displacements, then per head its
+  // lift toward the camera [mm] and tilt about world y and z [rad]
+  // (SceneRenderer's head state).
+  Eigen::VectorXd StateAt(double time_s) const;
+  // The lift and tilt each test gives each head: (lift, tilt y, tilt z)
+  // per head, in test order.
+  const std::vector<Eigen::VectorXd>& out_of_plane() const {
+    return out_of_plane_;
+  }
   // The equilibrium of each test's pressures, in test order.
   const std::vector<Eigen::VectorXd>& equilibria() const { return equilibria_; }
   // Last release plus the plan's rest time.
@@ -35,8 +46,10 @@ class HeadTimeline {
   };
   std::vector<Event> events_;
   std::vector<Eigen::VectorXd> equilibria_;
+  std::vector<Eigen::VectorXd> out_of_plane_;
   SceneSpec scene_;
   int num_unknowns_ = 0;
+  int state_size_ = 0;
   double duration_s_ = 0.0;
 };
 

@@ -24,15 +24,14 @@ std::vector<Eigen::VectorXd> ExposureSamples(const HeadTimeline& timeline,
                                              double time_s, double exposure_s,
                                              bool motion_blur) {
   constexpr int kSamples = 4;
-  if (!motion_blur || exposure_s <= 0.0)
-    return {timeline.DisplacementAt(time_s)};
+  if (!motion_blur || exposure_s <= 0.0) return {timeline.StateAt(time_s)};
   std::vector<Eigen::VectorXd> samples;
   for (int j = 0; j < kSamples; ++j) {
-    samples.push_back(timeline.DisplacementAt(
-        time_s + exposure_s * ((j + 0.5) / kSamples - 0.5)));
+    samples.push_back(
+        timeline.StateAt(time_s + exposure_s * ((j + 0.5) / kSamples - 0.5)));
   }
   if ((samples.front() - samples.back()).lpNorm<Eigen::Infinity>() < 1e-6) {
-    return {timeline.DisplacementAt(time_s)};
+    return {timeline.StateAt(time_s)};
   }
   return samples;
 }
@@ -58,6 +57,10 @@ std::string TruthHeader(int num_heads) {
   for (int h = 1; h <= num_heads; ++h) {
     header += fmt::format(",y{0}_mm,z{0}_mm,u{0}_px,v{0}_px", h);
   }
+  // Each head's lift toward the camera and its tilt about world y and z.
+  for (int h = 1; h <= num_heads; ++h) {
+    header += fmt::format(",lift{0}_mm,tilt_y{0}_rad,tilt_z{0}_rad", h);
+  }
   // The camera's motion since the start: the shift of the content at the
   // principal point and the roll (clockwise on screen); the brightness.
   return header + ",camera_dx_px,camera_dy_px,camera_roll_rad,brightness\n";
@@ -71,7 +74,7 @@ std::string TruthRow(int64_t k, double time_s, const SceneRenderer& renderer,
                      const CameraIntrinsics& intrinsics) {
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(samples[0].size());
   for (const Eigen::VectorXd& s : samples) mean += s / samples.size();
-  const int num_heads = static_cast<int>(mean.size() / 2);
+  const int num_heads = static_cast<int>(mean.size() / 5);
   std::vector<Eigen::Vector2d> pixels(num_heads, Eigen::Vector2d::Zero());
   for (const Eigen::VectorXd& s : samples) {
     const std::vector<Eigen::Vector2d> p =
@@ -82,6 +85,10 @@ std::string TruthRow(int64_t k, double time_s, const SceneRenderer& renderer,
   for (int h = 0; h < num_heads; ++h) {
     row += fmt::format(",{:.7f},{:.7f},{:.5f},{:.5f}", mean[2 * h],
                        mean[2 * h + 1], pixels[h].x(), pixels[h].y());
+  }
+  for (int h = 0; h < num_heads; ++h) {
+    const auto pose = mean.segment<3>(2 * num_heads + 3 * h);
+    row += fmt::format(",{:.7f},{:.8f},{:.8f}", pose[0], pose[1], pose[2]);
   }
   const Eigen::Vector2d shift = conditions.motion.ShiftPx(intrinsics);
   return row + fmt::format(",{:.5f},{:.5f},{:.8f},{:.5f}\n", shift.x(),

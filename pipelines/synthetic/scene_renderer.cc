@@ -366,33 +366,74 @@ Eigen::Vector2d SceneRenderer::Project(const Eigen::Vector3d& point_in_world,
   return camera_.Distort(n.head<2>() / n.z());
 }
 
-std::vector<DotTruth> SceneRenderer::Dots(
-    const Eigen::VectorXd& displacements_mm, const CameraMotion& motion) const {
+SceneRenderer::Plate SceneRenderer::PlateAt(const Eigen::VectorXd& state,
+                                            int head) const {
+  Plate plate{HeadAt(state, head), 0.0, Eigen::Vector2d::Zero()};
+  const int n = plan_.mechanism.NumHeads();
+  if (state.size() == 5 * n) {
+    plate.lift_mm = state[2 * n + 3 * head];
+    plate.tilt_rad = state.segment<2>(2 * n + 3 * head + 1);
+  }
+  return plate;
+}
+
+// The plate turned by the rotation vector (tilt y, tilt z, 0) about its
+// centre, raised by its lift: the world point of the plate's point drawn
+// at plane position q when flat.
+Eigen::Vector3d SceneRenderer::PlatePoint(const Plate& plate,
+                                          const Eigen::Vector2d& q) const {
+  const Eigen::Vector2d d = q - plate.centre_mm;
+  return Eigen::Vector3d(plate.centre_mm.x(), plate.centre_mm.y(),
+                         dot_height_ + plate.lift_mm) +
+         PlateRotation(plate) * Eigen::Vector3d(d.x(), d.y(), 0.0);
+}
+
+Eigen::Matrix3d SceneRenderer::PlateRotation(const Plate& plate) {
+  const double angle = plate.tilt_rad.norm();
+  if (angle == 0.0) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(
+             angle, Eigen::Vector3d(plate.tilt_rad.x(), plate.tilt_rad.y(), 0)
+                        .normalized())
+      .toRotationMatrix();
+}
+
+// The plate's homography: x_c = R_c X + t with X = A (q, 1), A's columns
+// the plate's axes and its origin in the world.
+Eigen::Matrix3d SceneRenderer::PlateFromNormalized(const Plate& plate) const {
+  const Eigen::Matrix3d turn = PlateRotation(plate);
+  Eigen::Matrix3d normalized_from_plate;
+  normalized_from_plate.col(0) = camera_.camera_from_world() * turn.col(0);
+  normalized_from_plate.col(1) = camera_.camera_from_world() * turn.col(1);
+  normalized_from_plate.col(2) =
+      camera_.camera_from_world() *
+          (PlatePoint(plate, Eigen::Vector2d::Zero())) +
+      camera_.translation();
+  return normalized_from_plate.inverse();
+}
+
+std::vector<DotTruth> SceneRenderer::Dots(const Eigen::VectorXd& state,
+                                          const CameraMotion& motion) const {
   std::vector<DotTruth> dots;
   for (const MarkerSpec& marker : plan_.markers) {
-    const Eigen::Vector2d head = plan_.mechanism.heads[marker.head].rest_mm +
-                                 displacements_mm.segment<2>(2 * marker.head);
+    const Plate plate = PlateAt(state, marker.head);
     for (const Eigen::Vector2d& offset : marker.layout_mm) {
-      const Eigen::Vector2d p = head + offset;
-      dots.push_back(
-          {marker.head, p,
-           Project(Eigen::Vector3d(p.x(), p.y(), dot_height_), motion)});
+      const Eigen::Vector3d p = PlatePoint(plate, plate.centre_mm + offset);
+      dots.push_back({marker.head, p.head<2>(), Project(p, motion)});
     }
   }
   return dots;
 }
 
 std::vector<Eigen::Vector2d> SceneRenderer::HeadPixels(
-    const Eigen::VectorXd& displacements_mm, const CameraMotion& motion) const {
+    const Eigen::VectorXd& state, const CameraMotion& motion) const {
   std::vector<Eigen::Vector2d> pixels;
   for (const MarkerSpec& marker : plan_.markers) {
-    Eigen::Vector2d centre = plan_.mechanism.heads[marker.head].rest_mm +
-                             displacements_mm.segment<2>(2 * marker.head);
+    const Plate plate = PlateAt(state, marker.head);
+    Eigen::Vector2d centre = plate.centre_mm;
     for (const Eigen::Vector2d& offset : marker.layout_mm) {
       centre += offset / static_cast<double>(marker.layout_mm.size());
     }
-    pixels.push_back(
-        Project(Eigen::Vector3d(centre.x(), centre.y(), dot_height_), motion));
+    pixels.push_back(Project(PlatePoint(plate, centre), motion));
   }
   return pixels;
 }
@@ -421,7 +462,7 @@ void SceneRenderer::DrawMoving(const Eigen::VectorXd& displacements_mm,
                                cv::Mat* image) const {
   DrawBellows(displacements_mm, image);
   for (const MarkerSpec& marker : plan_.markers) {
-    DrawHead(marker, HeadAt(displacements_mm, marker.head), image);
+    DrawHead(marker, PlateAt(displacements_mm, marker.head), image);
   }
   if (options_.red_tube) DrawTube(image);
 }
@@ -453,15 +494,16 @@ void SceneRenderer::DrawBellows(const Eigen::VectorXd& displacements_mm,
   }
 }
 
-// A disc of `radius` [mm] at `centre` on the heads' top face, drawn within
-// the square of half side `box_half_mm` around it.
-void SceneRenderer::DrawDisc(const Eigen::Vector2d& centre, double radius,
-                             double box_half_mm, const cv::Vec3f& bgr,
-                             cv::Mat* image) const {
+// A disc of `radius` [mm] at `centre` on a head's top face `plate`, drawn
+// within the square of half side `box_half_mm` around it.
+void SceneRenderer::DrawDisc(const Plate& plate, const Eigen::Vector2d& centre,
+                             double radius, double box_half_mm,
+                             const cv::Vec3f& bgr, cv::Mat* image) const {
   const Eigen::Vector2d corner(box_half_mm, box_half_mm);
   Composite(
-      *pixels_, camera_.NormalizedFromPlane(dot_height_).inverse(),
-      ImageBox(sensor_camera_, {centre + corner, centre - corner}, dot_height_),
+      *pixels_, PlateFromNormalized(plate),
+      ImageBox(sensor_camera_, {centre + corner, centre - corner},
+               dot_height_ + plate.lift_mm),
       options_.supersampling,
       [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
         *colour = bgr;
@@ -472,9 +514,9 @@ void SceneRenderer::DrawDisc(const Eigen::Vector2d& centre, double radius,
 
 // A head: a triangle with an edge facing each of three attachments (thesis
 // figs. 4.2, 4.10), else a disc; its dots and glint on its top face.
-void SceneRenderer::DrawHead(const MarkerSpec& marker,
-                             const Eigen::Vector2d& centre,
+void SceneRenderer::DrawHead(const MarkerSpec& marker, const Plate& plate,
                              cv::Mat* image) const {
+  const Eigen::Vector2d& centre = plate.centre_mm;
   const double side = plan_.scene.head_side_mm;
   const std::vector<Eigen::Vector2d> attachments =
       AttachmentDirections(plan_.mechanism, marker.head);
@@ -490,11 +532,11 @@ void SceneRenderer::DrawHead(const MarkerSpec& marker,
   }
   const double radius = side / std::sqrt(3.0);
   Composite(
-      *pixels_, camera_.NormalizedFromPlane(dot_height_).inverse(),
+      *pixels_, PlateFromNormalized(plate),
       ImageBox(sensor_camera_,
                {centre + Eigen::Vector2d(radius, radius),
                 centre - Eigen::Vector2d(radius, radius)},
-               dot_height_),
+               dot_height_ + plate.lift_mm),
       options_.supersampling,
       [&](const Eigen::Vector2d& p, cv::Vec3f* colour) {
         *colour = kHeadColor;
@@ -505,10 +547,11 @@ void SceneRenderer::DrawHead(const MarkerSpec& marker,
   const cv::Vec3f dot_color = MarkerColorBgr(marker.color);
   for (const Eigen::Vector2d& offset : marker.layout_mm) {
     const double r = marker.dot_diameter_mm / 2.0;
-    DrawDisc(centre + offset, r, r, dot_color, image);
+    DrawDisc(plate, centre + offset, r, r, dot_color, image);
   }
   if (options_.glint) {
-    DrawDisc(centre + Eigen::Vector2d(0.8, -0.6), 1.3, 2.0, kGlintColor, image);
+    DrawDisc(plate, centre + Eigen::Vector2d(0.8, -0.6), 1.3, 2.0, kGlintColor,
+             image);
   }
 }
 

@@ -114,13 +114,16 @@ class SceneRenderer {
                  int64_t frame_index,
                  const FrameConditions& conditions = {}) const;
 
-  // The dots at given displacements, seen by the camera after `motion`.
-  std::vector<DotTruth> Dots(const Eigen::VectorXd& displacements_mm,
+  // The dots of the heads in `state`, seen by the camera after `motion`.
+  // A head state is the displacements (y1, z1, ..., yN, zN) [mm], and may
+  // go on with each head's lift toward the camera [mm] and tilt about
+  // world y and z [rad] (HeadTimeline::StateAt); without them the heads
+  // are flat on the dot plane. Render's samples are head states too.
+  std::vector<DotTruth> Dots(const Eigen::VectorXd& state,
                              const CameraMotion& motion = {}) const;
   // The centre of each head's dots, projected (distortion applied).
   std::vector<Eigen::Vector2d> HeadPixels(
-      const Eigen::VectorXd& displacements_mm,
-      const CameraMotion& motion = {}) const;
+      const Eigen::VectorXd& state, const CameraMotion& motion = {}) const;
   // The tag's four outer black-border corners in pixels, in AprilTag's order
   // (counter-clockwise in the printed tag, starting bottom-left).
   std::vector<Eigen::Vector2d> TagCorners(
@@ -145,12 +148,27 @@ class SceneRenderer {
                   cv::Mat* image) const;
   Eigen::Vector2d HeadAt(const Eigen::VectorXd& displacements_mm,
                          int head) const;
+  // A head's top face: its centre on the plane when flat [mm], its lift
+  // [mm] and its tilt (rotation vector about world y and z) [rad].
+  struct Plate {
+    Eigen::Vector2d centre_mm;
+    double lift_mm = 0.0;
+    Eigen::Vector2d tilt_rad;
+  };
+  Plate PlateAt(const Eigen::VectorXd& state, int head) const;
+  static Eigen::Matrix3d PlateRotation(const Plate& plate);
+  Eigen::Vector3d PlatePoint(const Plate& plate,
+                             const Eigen::Vector2d& q) const;
+  // Normalised image coordinates to the plate's (plane positions when
+  // flat), for Composite.
+  Eigen::Matrix3d PlateFromNormalized(const Plate& plate) const;
   void DrawBellows(const Eigen::VectorXd& displacements_mm,
                    cv::Mat* image) const;
-  void DrawHead(const MarkerSpec& marker, const Eigen::Vector2d& centre,
+  void DrawHead(const MarkerSpec& marker, const Plate& plate,
                 cv::Mat* image) const;
-  void DrawDisc(const Eigen::Vector2d& centre, double radius,
-                double box_half_mm, const cv::Vec3f& bgr, cv::Mat* image) const;
+  void DrawDisc(const Plate& plate, const Eigen::Vector2d& centre,
+                double radius, double box_half_mm, const cv::Vec3f& bgr,
+                cv::Mat* image) const;
   void DrawTube(cv::Mat* image) const;
 
   TestPlan plan_;

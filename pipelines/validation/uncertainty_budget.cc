@@ -60,8 +60,8 @@ RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& a,
   return residual;
 }
 
-std::vector<Eigen::Vector2d> StillIntraJumps(
-    const VideoMeasurement& measurement, int h, double still_px) {
+std::vector<IntraJump> StillIntraJumps(const VideoMeasurement& measurement,
+                                       int h, double still_px) {
   constexpr int kMinSide = 3, kMaxSide = 8;
   constexpr double kMaxJumpStill = 10.0;
   const std::vector<FrameSample>& frames = measurement.frames;
@@ -71,7 +71,8 @@ std::vector<Eigen::Vector2d> StillIntraJumps(
   // follow each other in the video, measure the head and are no other I
   // picture (after the first).
   const auto side = [&](int i, int step) {
-    std::array<std::vector<double>, 2> values;
+    // y, z and the lift (NaN without one).
+    std::array<std::vector<double>, 3> values;
     for (int j = i; j >= 0 && j < n && std::abs(j - i) < kMaxSide; j += step) {
       const FrameSample& f = frames[j];
       if (f.frame != frames[i].frame + (j - i) || (j != i && f.intra) ||
@@ -80,18 +81,20 @@ std::vector<Eigen::Vector2d> StillIntraJumps(
       }
       values[0].push_back(f.heads[h].displacement_mm.x());
       values[1].push_back(f.heads[h].displacement_mm.y());
+      values[2].push_back(f.heads[h].lift_mm);
     }
     return values;
   };
-  const auto still = [&](const std::array<std::vector<double>, 2>& values) {
+  const auto still = [&](const std::array<std::vector<double>, 3>& values) {
     if (values[0].size() < static_cast<size_t>(kMinSide)) return false;
-    for (const std::vector<double>& axis : values) {
-      const auto [low, high] = std::minmax_element(axis.begin(), axis.end());
+    for (int a = 0; a < 2; ++a) {
+      const auto [low, high] =
+          std::minmax_element(values[a].begin(), values[a].end());
       if (*high - *low > still_mm) return false;
     }
     return true;
   };
-  std::vector<Eigen::Vector2d> jumps;
+  std::vector<IntraJump> jumps;
   for (int i = 1; i < n; ++i) {
     if (!frames[i].intra) continue;
     const auto after = side(i, 1);
@@ -100,10 +103,20 @@ std::vector<Eigen::Vector2d> StillIntraJumps(
         !still(after) || !still(before)) {
       continue;
     }
-    const Eigen::Vector2d jump(Median(after[0]) - Median(before[0]),
-                               Median(after[1]) - Median(before[1]));
+    IntraJump jump;
+    jump.position_mm = Eigen::Vector2d(Median(after[0]) - Median(before[0]),
+                                       Median(after[1]) - Median(before[1]));
     // A head that stepped between two frames, not the codec.
-    if (jump.cwiseAbs().maxCoeff() > kMaxJumpStill * still_mm) continue;
+    if (jump.position_mm.cwiseAbs().maxCoeff() > kMaxJumpStill * still_mm) {
+      continue;
+    }
+    const auto finite = [](const std::vector<double>& v) {
+      return std::all_of(v.begin(), v.end(),
+                         [](double x) { return std::isfinite(x); });
+    };
+    if (finite(after[2]) && finite(before[2])) {
+      jump.lift_mm = Median(after[2]) - Median(before[2]);
+    }
     jumps.push_back(jump);
   }
   return jumps;
@@ -114,14 +127,21 @@ CodecLevel MeasureCodecLevel(const VideoMeasurement& measurement) {
   const size_t num_heads =
       measurement.frames.empty() ? 0 : measurement.frames[0].heads.size();
   Eigen::Vector2d squares = Eigen::Vector2d::Zero();
+  double lift_squares = 0.0;
+  int lift_jumps = 0;
   for (size_t h = 0; h < num_heads; ++h) {
-    for (const Eigen::Vector2d& jump :
+    for (const IntraJump& jump :
          StillIntraJumps(measurement, static_cast<int>(h))) {
-      squares += jump.array().square().matrix();
+      squares += jump.position_mm.array().square().matrix();
       ++codec.jumps;
+      if (std::isfinite(jump.lift_mm)) {
+        lift_squares += jump.lift_mm * jump.lift_mm;
+        ++lift_jumps;
+      }
     }
   }
   if (codec.jumps > 0) codec.variance_mm2 = 0.5 * squares / codec.jumps;
+  if (lift_jumps > 0) codec.lift_variance_mm2 = 0.5 * lift_squares / lift_jumps;
   return codec;
 }
 

@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_VALIDATION_UNCERTAINTY_BUDGET_H_
 
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -77,8 +78,14 @@ inline constexpr double kStillPx = 0.05;
 // the more states of the codec it sees, the less it depends on where the
 // I pictures fall against the windows (a plan whose period is a multiple
 // of the key-frame interval puts them at the same place in every test).
-std::vector<Eigen::Vector2d> StillIntraJumps(
-    const VideoMeasurement& measurement, int h, double still_px = kStillPx);
+// With the jump of the head's position, that of its lift toward the camera
+// [mm] (NaN where the frames have none).
+struct IntraJump {
+  Eigen::Vector2d position_mm;
+  double lift_mm = NAN;
+};
+std::vector<IntraJump> StillIntraJumps(const VideoMeasurement& measurement,
+                                       int h, double still_px = kStillPx);
 
 // The codec's error in one window's position, pooled over a video's heads:
 // the variance per axis [mm^2], half the mean square of StillIntraJumps
@@ -88,6 +95,9 @@ std::vector<Eigen::Vector2d> StillIntraJumps(
 struct CodecLevel {
   Eigen::Vector2d variance_mm2 = Eigen::Vector2d::Zero();
   int jumps = 0;
+  // The same for a window's lift [mm^2] (issue 27), from the jumps that
+  // have one.
+  double lift_variance_mm2 = 0.0;
 };
 CodecLevel MeasureCodecLevel(const VideoMeasurement& measurement);
 

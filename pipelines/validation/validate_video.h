@@ -25,6 +25,7 @@ struct VideoValidationOptions {
   // Register every frame to the bench; false takes the camera to be still
   // (the thesis's method).
   bool register_frames = true;
+  bool correct_lift = false;  // VideoMeasurementOptions::correct_lift
   bool progress = true;  // report progress (util/progress.h) while measuring
   ValidationOptions scoring;
   TestPointDetectionOptions detection;

@@ -201,6 +201,28 @@ std::vector<double> WindowMiddles(
   return middles;
 }
 
+namespace {
+
+// A window's median of one quantity, the robust spread (1.4826 x median
+// absolute deviation) and the median's standard error: 1.2533 x spread over
+// the root of the frames' effective number (lag-1 correlation lowers it).
+struct RobustMedian {
+  double median, spread, standard_error;
+};
+RobustMedian MedianWithStandardError(const std::vector<double>& values) {
+  RobustMedian out;
+  out.median = Median(values);
+  std::vector<double> deviations;
+  for (double v : values) deviations.push_back(std::abs(v - out.median));
+  out.spread = 1.4826 * Median(deviations);
+  out.standard_error =
+      std::sqrt(std::numbers::pi / 2.0 / EffectiveSampleSize(values)) *
+      out.spread;
+  return out;
+}
+
+}  // namespace
+
 void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
                      WindowSummary* window) {
   window->frames = 0;
@@ -209,7 +231,12 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   window->spread_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   window->standard_error_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   window->dot_median_mm.assign(num_heads, {});
+  window->lift_mm.assign(num_heads, NAN);
+  window->lift_standard_error_mm.assign(num_heads, NAN);
+  window->parallax_mm.assign(num_heads, Eigen::Vector2d::Constant(NAN));
   std::vector<std::array<std::vector<double>, 2>> values(num_heads);
+  // Per head: lift, and the parallax per axis.
+  std::vector<std::array<std::vector<double>, 3>> lifts(num_heads);
   // Per head, dot and axis.
   std::vector<std::vector<std::array<std::vector<double>, 2>>> dots(num_heads);
   std::array<std::vector<double>, 2> camera;
@@ -245,6 +272,11 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
       ++window->head_frames[h];
       values[h][0].push_back(head.displacement_mm.x());
       values[h][1].push_back(head.displacement_mm.y());
+      if (std::isfinite(head.lift_mm)) {
+        lifts[h][0].push_back(head.lift_mm);
+        lifts[h][1].push_back(head.parallax_mm.x());
+        lifts[h][2].push_back(head.parallax_mm.y());
+      }
       const std::vector<DotObservation>& found = head.observation.dots;
       dots[h].resize(found.size());
       for (size_t d = 0; d < found.size(); ++d) {
@@ -265,15 +297,17 @@ void SummariseWindow(const VideoMeasurement& measurement, int num_heads,
   for (int h = 0; h < num_heads; ++h) {
     if (values[h][0].empty()) continue;
     for (int a = 0; a < 2; ++a) {
-      const double median = Median(values[h][a]);
-      std::vector<double> deviations;
-      for (double v : values[h][a]) deviations.push_back(std::abs(v - median));
-      window->median_mm[h][a] = median;
-      window->spread_mm[h][a] = 1.4826 * Median(deviations);
-      window->standard_error_mm[h][a] =
-          std::sqrt(std::numbers::pi / 2.0 /
-                    EffectiveSampleSize(values[h][a])) *
-          window->spread_mm[h][a];
+      const RobustMedian m = MedianWithStandardError(values[h][a]);
+      window->median_mm[h][a] = m.median;
+      window->spread_mm[h][a] = m.spread;
+      window->standard_error_mm[h][a] = m.standard_error;
+    }
+    if (!lifts[h][0].empty()) {
+      const RobustMedian lift = MedianWithStandardError(lifts[h][0]);
+      window->lift_mm[h] = lift.median;
+      window->lift_standard_error_mm[h] = lift.standard_error;
+      window->parallax_mm[h] =
+          Eigen::Vector2d(Median(lifts[h][1]), Median(lifts[h][2]));
     }
     for (const auto& dot : dots[h]) {
       window->dot_median_mm[h].emplace_back(Median(dot[0]), Median(dot[1]));
@@ -409,6 +443,24 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
   }
 }
 
+// A head's lift between its windows and the shift its parallax makes in
+// the displacement; the lift's uncertainty from the two windows' standard
+// errors and the codec's level in each (CodecLevel::lift_variance_mm2).
+void AddLift(const std::array<WindowSummary, 3>& windows, int h,
+             const CodecLevel& codec, HeadScore* head) {
+  const WindowSummary& initial = windows[kInitialWindow];
+  const auto change = [&](const WindowSummary& to, double* lift, double* u) {
+    *lift = to.lift_mm[h] - initial.lift_mm[h];
+    *u = std::hypot(initial.lift_standard_error_mm[h],
+                    to.lift_standard_error_mm[h],
+                    std::sqrt(2.0 * codec.lift_variance_mm2));
+  };
+  change(windows[kActuatedWindow], &head->lift_mm, &head->u_lift_mm);
+  change(windows[kFinalWindow], &head->final_lift_mm, &head->u_final_lift_mm);
+  head->lift_shift_mm =
+      (windows[kActuatedWindow].parallax_mm[h] - initial.parallax_mm[h]).norm();
+}
+
 // Each measured head's budgets: what the video shows of the codec and of
 // the dots' disagreement, then each change's own terms.
 // Returns how many jumps at I pictures the codec's term rests on.
@@ -447,6 +499,7 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
                                  t.windows[kActuatedWindow], h, context);
       head.hysteresis_budget = ChangeBudget(
           t.windows[kInitialWindow], t.windows[kFinalWindow], h, context);
+      AddLift(t.windows, h, codec, &head);
     }
   }
   return codec.jumps;
@@ -581,6 +634,34 @@ void WarnAboutSettling(const TestPlan& plan, ValidationResult* result) {
 }
 
 // A codec term measured on too few jumps at I pictures, or not at all.
+// A head whose lift toward the camera is beyond 3u (a flat head's lift
+// lies beyond its U = 2u one time in twenty, too often for a warning) and
+// whose parallax moves its displacement by more than kLiftShiftWarnMm:
+// named, with what was done about it.
+void WarnAboutLift(const TestPlan& plan, const VideoMeasurement& measurement,
+                   ValidationResult* result) {
+  constexpr double kLiftShiftWarnMm = 0.002;
+  for (const TestScore& t : result->tests) {
+    if (!t.measured) continue;
+    for (size_t h = 0; h < t.heads.size(); ++h) {
+      const HeadScore& s = t.heads[h];
+      if (!(std::abs(s.lift_mm) > 3.0 * s.u_lift_mm &&
+            s.lift_shift_mm > kLiftShiftWarnMm)) {
+        continue;
+      }
+      result->warnings.push_back(fmt::format(
+          "{}: head '{}' moved {:+.3f} mm (u {:.3f} mm) toward the camera, "
+          "whose parallax moves its displacement by {:.4f} mm; {}",
+          t.id, plan.mechanism.heads[h].name, s.lift_mm, s.u_lift_mm,
+          s.lift_shift_mm,
+          measurement.lift_corrected
+              ? "taken out (--lift-correction)"
+              : "left in: --lift-correction takes it out, at the cost of "
+                "the lift's noise (docs/measurement.md)"));
+    }
+  }
+}
+
 void WarnAboutCodecTerm(int jumps, const VideoMeasurement& measurement,
                         const ValidationOptions& options,
                         ValidationResult* result) {
@@ -665,6 +746,7 @@ ValidationResult ScoreTests(const TestPlan& plan,
   WarnAboutDamage(measurement, &result);
   WarnAboutSettling(plan, &result);
   WarnAboutCodecTerm(codec_jumps, measurement, options, &result);
+  WarnAboutLift(plan, measurement, &result);
   for (const TestScore& score : result.tests) {
     if (!score.beyond_reach.empty()) {
       result.warnings.push_back(fmt::format(

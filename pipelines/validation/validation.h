@@ -70,6 +70,13 @@ struct WindowSummary {
   // with the head complete: the dots' disagreement is a term of the
   // uncertainty budget (uncertainty_budget.h).
   std::vector<std::vector<Eigen::Vector2d>> dot_median_mm;
+  // Per head, the median lift toward the camera against the rest [mm]
+  // (HeadSample::lift_mm) and its standard error as standard_error_mm's;
+  // and the median parallax the lift and tilt add to the dots' centre [mm]
+  // (what the correction takes out). NaN when not measured.
+  std::vector<double> lift_mm;
+  std::vector<double> lift_standard_error_mm;
+  std::vector<Eigen::Vector2d> parallax_mm;
   // The camera during the window (registered frames): its median shift
   // since the reference frame and how far it moved within the window (the
   // larger axis's 5-95 % range) [px]; frames not registered to the bench.
@@ -113,6 +120,14 @@ struct HeadScore {
   // model_error_mm exceeds U = 2u of measured_mm: the error is the model's,
   // not the measurement's.
   bool model_error_significant = false;
+  // The head's lift toward the camera (issue 27), actuated - initial and
+  // final - initial [mm], with their standard uncertainties [mm]; NaN when
+  // not measured.
+  double lift_mm = NAN, u_lift_mm = NAN;
+  double final_lift_mm = NAN, u_final_lift_mm = NAN;
+  // How far the lift's and tilt's parallax moves measured_mm [mm]: taken
+  // out of it when the measurement corrects lift, left in it when not.
+  double lift_shift_mm = NAN;
 };
 
 struct TestScore {

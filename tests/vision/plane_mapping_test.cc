@@ -16,14 +16,25 @@ std::array<Eigen::Vector2d, 4> TagCorners(const Camera& camera, double size) {
           camera.Project({h, h, 0}), camera.Project({-h, h, 0})};
 }
 
-TEST(PlaneMapping, TagGivesTheDotPlaneOfATiltedDistortedCamera) {
-  CameraIntrinsics k =
-      CameraIntrinsics::FromEquivalentFocalLength(52, 1920, 1080);
-  k.distortion = {-0.1, 0.02, 0.0005, -0.0003, 0.0};
-  const Camera camera =
+// A distorted camera 490 mm from a point 16 mm above a 25 mm tag, tilted
+// 5 deg about x after -3 deg about y, and the dot plane's mapping from it.
+struct TiltedBench {
+  CameraIntrinsics k = [] {
+    CameraIntrinsics k =
+        CameraIntrinsics::FromEquivalentFocalLength(52, 1920, 1080);
+    k.distortion = {-0.1, 0.02, 0.0005, -0.0003, 0.0};
+    return k;
+  }();
+  Camera camera =
       Camera::LookingDown(k, {40, 30, 16}, 490, 5 * kDeg, -3 * kDeg);
-  const PlaneMapping mapping =
+  PlaneMapping mapping =
       PlaneMapping::FromTag(k, TagCorners(camera, 25), 25, 16);
+};
+
+TEST(PlaneMapping, TagGivesTheDotPlaneOfATiltedDistortedCamera) {
+  const TiltedBench bench;
+  const Camera& camera = bench.camera;
+  const PlaneMapping& mapping = bench.mapping;
   for (const Eigen::Vector2d& p :
        {Eigen::Vector2d(40, 30), Eigen::Vector2d(55, 20),
         Eigen::Vector2d(-10, 60)}) {
@@ -41,6 +52,35 @@ TEST(PlaneMapping, TagGivesTheDotPlaneOfATiltedDistortedCamera) {
   // A point on the tag plane is not on the dot plane: the offset matters.
   const Eigen::Vector2d low = mapping.ToPlane(camera.Project({40, 30, 0}));
   EXPECT_GT((low - Eigen::Vector2d(40, 30)).norm(), 0.5);
+}
+
+TEST(PlaneMapping, CameraAboveGivesTheParallaxOfARaisedPoint) {
+  const TiltedBench bench;
+  const Camera& camera = bench.camera;
+  const PlaneMapping& mapping = bench.mapping;
+  const CameraAbovePlane above = mapping.CameraAbove();
+  EXPECT_NEAR(above.height_mm, mapping.CameraHeightMm() - 16, 1e-6);
+  // A point straight below the centre shows no parallax when raised.
+  for (const double lift : {0.6, 3.0, -2.0}) {
+    for (const Eigen::Vector2d& p :
+         {Eigen::Vector2d(90, 30), Eigen::Vector2d(40, -20), above.foot_mm}) {
+      const Eigen::Vector2d seen =
+          mapping.ToPlane(camera.Project({p.x(), p.y(), 16 + lift}));
+      const Eigen::Vector2d expected =
+          above.foot_mm +
+          (p - above.foot_mm) * above.height_mm / (above.height_mm - lift);
+      EXPECT_LT((seen - expected).norm(), 1e-6) << p.transpose();
+    }
+  }
+  // From a scale: a fronto-parallel camera fx mm_per_px above the plane
+  // point at the principal point.
+  const CameraIntrinsics& k = bench.k;
+  const PlaneMapping scaled = PlaneMapping::FromScale(k, 0.2, 0.3);
+  EXPECT_NEAR(scaled.CameraAbove().height_mm, 0.2 * k.fx_px, 1e-9);
+  EXPECT_LT((scaled.CameraAbove().foot_mm -
+             scaled.ToPlane(Eigen::Vector2d(k.cx_px, k.cy_px)))
+                .norm(),
+            1e-9);
 }
 
 TEST(PlaneMapping, ScaleAndRotationFollowTheImage) {

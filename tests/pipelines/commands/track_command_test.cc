@@ -85,8 +85,9 @@ TEST_F(TrackCommandTest, WritesOneRowPerFrameAndHead) {
   std::getline(csv, line);
   EXPECT_EQ(line,
             "frame,time_s,head,u_px,v_px,y_mm,z_mm,sigma_mm,u_y_mm,u_z_mm,"
-            "dots_found,dots,rotation_rad,binary_y_mm,binary_z_mm,full_frame,"
-            "registered,camera_dx_px,camera_dy_px,camera_roll_rad,note");
+            "dots_found,dots,rotation_rad,lift_mm,tilt_y_rad,tilt_z_rad,"
+            "binary_y_mm,binary_z_mm,full_frame,registered,camera_dx_px,camera_"
+            "dy_px,camera_roll_rad,note");
   int rows = 0;
   while (std::getline(csv, line)) {
     ++rows;

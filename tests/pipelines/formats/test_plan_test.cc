@@ -41,7 +41,8 @@ TEST(TestPlan, RoundTripsThroughItsYaml) {
       std::string(kBase) +
           "  - {id: t1, pressures: [1, 2, 3, 4, 5], actuate_s: 1, release_s: 4,"
           " residual_offset_mm: [0.1, 0]}\n"
-          "  - {id: t2, pressures: [1, 0, 0, 0, 0], skipped: true}\n",
+          "  - {id: t2, pressures: [1, 0, 0, 0, 0], skipped: true}\n"
+          "scene: {head_lift_mm: 0.6, head_tilt_deg: 1}\n",
       "p.yaml");
   ASSERT_EQ(plan.tests.size(), 1u);  // a skipped test is not a test point
   ASSERT_EQ(plan.skipped_tests.size(), 1u);
@@ -53,6 +54,8 @@ TEST(TestPlan, RoundTripsThroughItsYaml) {
   EXPECT_EQ(*again.tests[0].release_s, 4.0);
   EXPECT_EQ(again.tests[0].residual_offset_mm,
             plan.tests[0].residual_offset_mm);
+  EXPECT_EQ(again.scene.head_lift_mm, 0.6);
+  EXPECT_EQ(again.scene.head_tilt_deg, 1.0);
   for (size_t i = 0; i < plan.markers[1].layout_mm.size(); ++i) {
     EXPECT_LT(
         (again.markers[1].layout_mm[i] - plan.markers[1].layout_mm[i]).norm(),
@@ -181,6 +184,8 @@ TEST(TestPlan, WrongShapesAreLocatedErrorsNeverYamlCppExceptions) {
       // misfit of "inf mm", a camera "-0 mm" from a tag).
       {head + "scene: {hold_s: 1e9}\n" + tests,
        "plan.yaml:3: hold_s: must be at most 86400"},
+      {head + "scene: {head_lift_mm: 7}\n" + tests,
+       "plan.yaml:3: head_lift_mm: must be at most 5"},
       {head + "calibration: {mm_per_px: 1e308}\n" + tests,
        "plan.yaml:3: mm_per_px: 1e+308 mm per pixel is no bench camera's"},
       {head + "calibration: {tag: {id: 0, size_mm: 1e-9}}\n" + tests,

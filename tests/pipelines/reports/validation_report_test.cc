@@ -44,6 +44,15 @@ class ValidationReportData : public ::testing::Test {
         "  - {id: t4, pressures: [6, 0, 6], skipped: true}\n",
         "plan.yaml");
     VideoMeasurement m = HeldMeasurement(plan, 20.0, 0.0);
+    // The head rises 0.3 mm toward the camera while actuated.
+    for (FrameSample& f : m.frames) {
+      const bool held = (f.time_s >= 2.5 && f.time_s < 5) ||
+                        (f.time_s >= 8.5 && f.time_s < 11) ||
+                        (f.time_s >= 14.5 && f.time_s < 17);
+      f.heads[0].lift_mm = held ? 0.3 : 0.0;
+      f.heads[0].tilt_rad.setZero();
+      f.heads[0].parallax_mm = Eigen::Vector2d(held ? 0.003 : 0.0, 0.0);
+    }
     ValidationResult r = ScoreTests(plan, m, ValidationOptions());
     validation_ = std::make_unique<VideoValidation>(
         VideoValidation{plan,
@@ -149,6 +158,7 @@ TEST_F(ValidationReportData, SummaryJsonHasEveryTestsWindowsAndTheRepeat) {
 
 std::vector<json> Charts(const VideoValidation& v) {
   return {PositionChart(v.plan, v.result), ErrorChart(v.plan, v.result),
+          LiftChart(v.plan, v.result),
           TrajectoryChart(v.plan, v.measurement, v.result),
           CameraMotionChart(v.measurement, v.result)};
 }
@@ -196,6 +206,27 @@ TEST_F(ValidationReportData, PositionChartHasEqualAxesAroundEveryPoint) {
   EXPECT_EQ(series, (std::set<std::string>{"measured", v().result.model_name,
                                            v().result.baseline_name,
                                            "error line", "U = 2u ellipse"}));
+}
+
+// The lift of every measured test, its U, the parallax's shift; and the
+// warning that names the heads whose lift moves their displacement.
+TEST_F(ValidationReportData, LiftChartHasEveryMeasuredTestsLift) {
+  const json chart = LiftChart(v().plan, v().result);
+  std::set<std::string> tests;
+  for (const json& point : chart["data"]["values"]) {
+    tests.insert(point["test"].get<std::string>());
+    EXPECT_NEAR(point["lift_mm"].get<double>(), 0.3, 1e-12);
+    EXPECT_LE(point["low_mm"].get<double>(), 0.3);
+    EXPECT_GE(point["high_mm"].get<double>(), 0.3);
+    EXPECT_NEAR(point["shift_mm"].get<double>(), 0.003, 1e-12);
+  }
+  EXPECT_EQ(tests, (std::set<std::string>{"t1", "t2", "t3"}));
+  int warned = 0;
+  for (const std::string& w : v().result.warnings) {
+    warned += w.find("moved +0.300 mm") != std::string::npos &&
+              w.find("left in: --lift-correction") != std::string::npos;
+  }
+  EXPECT_EQ(warned, 3);
 }
 
 TEST_F(ValidationReportData, ErrorChartHasBothModelsForEveryScoredTest) {

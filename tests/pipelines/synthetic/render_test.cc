@@ -95,6 +95,29 @@ TEST(SceneRenderer, DotCentresAreExactWithoutTilt) {
   }
 }
 
+// A head lifted 0.6 mm toward the camera and tilted 1 deg (issue 27) is
+// drawn where its truth says: its dots' coverage centroids on its projected
+// dot centres, spread apart by the camera's height over its own.
+TEST(SceneRenderer, LiftedAndTiltedHeadsAreDrawnWhereTheTruthSays) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  const SceneRenderer renderer(plan, Clean(0.0));
+  Eigen::VectorXd flat(5), lifted(5);
+  flat << -0.8137, 0.4519, 0, 0, 0;
+  lifted << -0.8137, 0.4519, 0.6, DegToRad(0.8), DegToRad(-0.6);
+  const cv::Mat linear = renderer.RenderLinear({lifted});
+  const std::vector<DotTruth> dots = renderer.Dots(lifted);
+  const std::vector<DotTruth> flat_dots = renderer.Dots(flat);
+  ASSERT_EQ(dots.size(), 3u);
+  for (const DotTruth& dot : dots) {
+    EXPECT_LT((CoverageCentroid(linear, dot.pixel) - dot.pixel).norm(), 0.01);
+  }
+  // 475 mm from the head tops: 0.6 mm up is 0.126 % larger in the image.
+  const double ratio = (dots[1].pixel - dots[0].pixel).norm() /
+                       (flat_dots[1].pixel - flat_dots[0].pixel).norm();
+  EXPECT_NEAR(ratio, 475.0 / 474.4, 2e-4);
+  EXPECT_GT(ratio, 1.0008);
+}
+
 // A camera that moved (a knock with a roll) sees the dots where the truth
 // says, and the tag's corners too: the frame is resampled along the moved
 // camera's rays in full precision.
@@ -197,6 +220,32 @@ TEST(HeadTimeline, SettlesOnTheModelsEquilibriumAndComesBack) {
               1e-9);
   EXPECT_LT(timeline.DisplacementAt(0.49).norm(), 1e-15);
   EXPECT_DOUBLE_EQ(timeline.duration_s(), 6.0);
+}
+
+// Lifted and tilted heads (issue 27): within the scene's bounds while
+// actuated, the same for every timeline of the plan, flat again at rest.
+TEST(HeadTimeline, LiftsAndTiltsWithinTheScenesBoundsAndSettlesFlat) {
+  std::string yaml = kPlan;
+  yaml.replace(yaml.find("rest_s: 1.0}"), 12,
+               "rest_s: 1.0, head_lift_mm: 0.6, head_tilt_deg: 1}");
+  const TestPlan plan = ParseTestPlan(yaml, "plan.yaml");
+  const HeadTimeline timeline(plan), again(plan);
+  ASSERT_EQ(timeline.out_of_plane().size(), 2u);
+  for (double t : {2.49, 4.99}) {
+    const Eigen::VectorXd state = timeline.StateAt(t);
+    ASSERT_EQ(state.size(), 5);
+    EXPECT_GE(state[2], 0.0);
+    EXPECT_LE(state[2], 0.6);
+    EXPECT_LE(state.tail<2>().norm(), DegToRad(1.0));
+    EXPECT_EQ(state, again.StateAt(t));
+  }
+  // The two tests lift differently, and each head settles on its target.
+  EXPECT_NE(timeline.out_of_plane()[0], timeline.out_of_plane()[1]);
+  EXPECT_LT(
+      (timeline.StateAt(2.49).tail<3>() - timeline.out_of_plane()[0]).norm(),
+      1e-6);
+  EXPECT_LT(timeline.StateAt(5.99).tail<3>().norm(), 1e-3);
+  EXPECT_EQ(timeline.DisplacementAt(2.49), timeline.StateAt(2.49).head<2>());
 }
 
 TEST(RenderCommand, TruthEqualsTheEquilibriumOnceSettled) {

@@ -186,17 +186,26 @@ TEST(ScoreTests, WarnsWhenTheCodecTermRestsOnTooFewJumps) {
 }
 
 // A head still between I pictures jumps at each by the difference of two
-// levels; a moving head gives no jumps.
+// levels, and so does its lift; a moving head gives no jumps.
 TEST(StillIntraJumps, MeasuresTheLevelsOfAStillHeadOnly) {
   const TestPlan plan = ManyTestsPlan(4);
-  const VideoMeasurement m =
+  VideoMeasurement m =
       CodecLikeMeasurement(plan, 25.0, 20, 0.004, 0.0, 0.0002, 7);
-  const std::vector<Eigen::Vector2d> jumps = StillIntraJumps(m, 0);
+  ASSERT_TRUE(std::isnan(StillIntraJumps(m, 0)[0].lift_mm));
+  for (FrameSample& f : m.frames) {
+    f.heads[0].lift_mm = 3.0 * f.heads[0].displacement_mm.y();
+  }
+  const std::vector<IntraJump> jumps = StillIntraJumps(m, 0);
   ASSERT_GE(jumps.size(), 20u);
   double squares = 0.0;
-  for (const Eigen::Vector2d& j : jumps) squares += j.squaredNorm();
+  for (const IntraJump& j : jumps) {
+    squares += j.position_mm.squaredNorm();
+    EXPECT_NEAR(j.lift_mm, 3.0 * j.position_mm.y(), 1e-12);
+  }
   // Two axes, two levels each: 4 sigma^2 on average.
   EXPECT_NEAR(std::sqrt(squares / jumps.size() / 4.0), 0.004, 0.0012);
+  const CodecLevel level = MeasureCodecLevel(m);
+  EXPECT_NEAR(level.lift_variance_mm2, 9.0 * level.variance_mm2.y(), 1e-15);
 
   VideoMeasurement moving = m;
   for (FrameSample& f : moving.frames) {

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Issue 27's lifting heads (docs/measurement.md, "Out of the plane"): the
+# delta and the floating mechanism with heads lifted by up to 0.6 mm and
+# tilted by up to 1 deg (bench/lift_*.plan.yaml), rendered at 1080p and a
+# phone's 10 Mb/s into build/bench-lift/NAME, measured by `validate` with
+# and without --lift-correction, and each test point's lift and
+# displacement compared with the render's truth (bench/score_lift.py).
+#   bench/run_lift_bench.sh [delta|floating...]   (default: both)
+# SOFTBENCH=path runs another build. A clip is rendered once and kept.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+softbench=${SOFTBENCH:-./build/release/softbench}
+[[ -x $softbench ]] || { echo "build first: cmake --build --preset release" >&2; exit 2; }
+out=build/bench-lift
+names=("$@")
+[[ ${#names[@]} -gt 0 ]] || names=(delta floating)
+for name in "${names[@]}"; do
+  dir=$out/$name
+  mkdir -p "$dir"
+  if [[ ! -f $dir/clip.mp4 ]]; then
+    echo "rendering $dir/clip.mp4..." >&2
+    $softbench --quiet render --plan "bench/lift_$name.plan.yaml" \
+      --out "$dir/clip.tmp.mp4" --truth "$dir/truth.csv" \
+      --plan-out "$dir/plan.yaml" --preset veryfast --resolution 1080p \
+      --bitrate-mbps 10 --seed 27
+    mv "$dir/clip.tmp.mp4" "$dir/clip.mp4"
+  fi
+  $softbench --quiet validate "$dir/clip.mp4" --plan "$dir/plan.yaml" \
+    --out "$dir/report" >/dev/null
+  $softbench --quiet validate "$dir/clip.mp4" --plan "$dir/plan.yaml" \
+    --lift-correction --out "$dir/report-corrected" >/dev/null
+  bench/score_lift.py "$dir/truth.csv" "$dir/report" "$name"
+  bench/score_lift.py "$dir/truth.csv" "$dir/report-corrected" \
+    "$name (--lift-correction)"
+done
