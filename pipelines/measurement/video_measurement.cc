@@ -308,6 +308,9 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
 void MeasurePlatePoses(const VideoMeasurementOptions& options,
                        VideoMeasurement* m) {
   const CameraAbovePlane camera = m->mapping->CameraAbove();
+  // A mapping with no camera above the plane (none seen from a tag below
+  // its dot plane) has no parallax to measure: lifts stay NaN.
+  if (!(camera.height_mm > 0.0 && std::isfinite(camera.height_mm))) return;
   m->lift_corrected = options.correct_lift;
   for (size_t h = 0; h < m->rest_mm.size(); ++h) {
     std::vector<std::vector<double>> ys, zs;
