@@ -595,10 +595,13 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
         EXPECT_NEAR(*x, *y, 1.0) << column;
       } else if (column.rfind("u_", 0) == 0 || column == "hysteresis_u_mm" ||
                  column == "model_error_significant" ||
-                 column == "hysteresis_verdict") {
+                 column == "hysteresis_verdict" ||
+                 column.find("lift_") != std::string::npos) {
         // The codec's term rests on the I pictures each run reads (all of
         // them, or those near the windows; docs/uncertainty.md): both runs
-        // give a budget, not the same one.
+        // give a budget, not the same one. A lift is measured against the
+        // dots at rest in the frames read, and is known to ~0.1 mm
+        // (docs/measurement.md): both runs give one.
         EXPECT_EQ(a[k].empty(), w[k].empty()) << column;
       } else if (x && y) {
         EXPECT_NEAR(*x, *y, 2e-4) << column;
