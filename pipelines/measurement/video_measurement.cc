@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <memory>
@@ -261,11 +262,19 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
   }
   for (size_t h = 0; h < plan.markers.size(); ++h) {
     std::vector<double> ys, zs;
+    // Per dot and axis: the dots at rest, the reference of the head's pose
+    // out of the plane (MeasurePlatePoses).
+    std::vector<std::array<std::vector<double>, 2>> dots;
     for (const FrameSample& f : m->frames) {
       const HeadObservation& obs = f.heads[h].observation;
       if (f.time_s < rest_end && obs.complete) {
         ys.push_back(obs.position_mm.x());
         zs.push_back(obs.position_mm.y());
+        dots.resize(obs.dots.size());
+        for (size_t d = 0; d < obs.dots.size(); ++d) {
+          dots[d][0].push_back(obs.dots[d].plane_mm.x());
+          dots[d][1].push_back(obs.dots[d].plane_mm.y());
+        }
       }
     }
     if (ys.empty()) {
@@ -289,8 +298,11 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
           moved_mm, rest_end));
     }
     m->rest_mm.emplace_back(Median(ys), Median(zs));
+    std::vector<Eigen::Vector2d>& rest_dots = m->rest_dots_mm.emplace_back();
+    for (const auto& dot : dots) {
+      rest_dots.emplace_back(Median(dot[0]), Median(dot[1]));
+    }
   }
-  m->rest_end_s = rest_end;
   for (FrameSample& f : m->frames) {
     for (size_t h = 0; h < f.heads.size(); ++h) {
       HeadSample& s = f.heads[h];
@@ -301,9 +313,8 @@ void SetDisplacements(const TestPlan& plan, double rest_s,
   }
 }
 
-// Each head's dots at rest (the median of each over the rest frames that
-// have the head complete) and, in every frame with the head complete, its
-// pose against them; the parallax it adds is taken out of the displacement
+// In every frame with the head complete, its pose against its dots at rest
+// (SetDisplacements); the parallax it adds is taken out of the displacement
 // when `options.correct_lift`.
 void MeasurePlatePoses(const VideoMeasurementOptions& options,
                        VideoMeasurement* m) {
@@ -312,23 +323,6 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
   // its dot plane) has no parallax to measure: lifts stay NaN.
   if (!(camera.height_mm > 0.0 && std::isfinite(camera.height_mm))) return;
   m->lift_corrected = options.correct_lift;
-  for (size_t h = 0; h < m->rest_mm.size(); ++h) {
-    std::vector<std::vector<double>> ys, zs;
-    for (const FrameSample& f : m->frames) {
-      const HeadObservation& obs = f.heads[h].observation;
-      if (f.time_s >= m->rest_end_s || !obs.complete) continue;
-      ys.resize(obs.dots.size()), zs.resize(obs.dots.size());
-      for (size_t d = 0; d < obs.dots.size(); ++d) {
-        ys[d].push_back(obs.dots[d].plane_mm.x());
-        zs[d].push_back(obs.dots[d].plane_mm.y());
-      }
-    }
-    std::vector<Eigen::Vector2d> rest;
-    for (size_t d = 0; d < ys.size(); ++d) {
-      rest.emplace_back(Median(ys[d]), Median(zs[d]));
-    }
-    m->rest_dots_mm.push_back(rest);
-  }
   RunParallelTasks(
       static_cast<int>(m->frames.size()), 0,
       [&](int i) {

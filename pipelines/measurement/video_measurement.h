@@ -77,9 +77,9 @@ struct VideoMeasurement {
   std::string scale_source;  // "tag 0 (10 frames)", "mm_per_px", ...
   double mm_per_px = 0.0;    // at the image centre, dot plane
   std::vector<Eigen::Vector2d> rest_mm;  // per head, plane coordinates
-  double rest_end_s = 0.0;               // the rest's frames end here
-  // Per head, its dots' rest positions [mm] (medians over the rest): the
-  // reference of its lift and tilt (HeadSample::lift_mm).
+  // Per head, its dots' rest positions [mm] (medians over the rest frames
+  // with the head complete): the reference of its lift and tilt
+  // (HeadSample::lift_mm).
   std::vector<std::vector<Eigen::Vector2d>> rest_dots_mm;
   // The displacements have the lift's parallax taken out
   // (VideoMeasurementOptions::correct_lift).

@@ -633,7 +633,6 @@ void WarnAboutSettling(const TestPlan& plan, ValidationResult* result) {
   }
 }
 
-// A codec term measured on too few jumps at I pictures, or not at all.
 // A head whose lift toward the camera is beyond 3u (a flat head's lift
 // lies beyond its U = 2u one time in twenty, too often for a warning) and
 // whose parallax moves its displacement by more than kLiftShiftWarnMm:
@@ -667,6 +666,7 @@ void WarnAboutLift(const TestPlan& plan, const VideoMeasurement& measurement,
   }
 }
 
+// A codec term measured on too few jumps at I pictures, or not at all.
 void WarnAboutCodecTerm(int jumps, const VideoMeasurement& measurement,
                         const ValidationOptions& options,
                         ValidationResult* result) {
