@@ -7,6 +7,9 @@
 # displacement compared with the render's truth (bench/score_lift.py).
 #   bench/run_lift_bench.sh [delta|floating...]   (default: both)
 # SOFTBENCH=path runs another build. A clip is rendered once and kept.
+# LIFT_CRF=N renders at that x264 quality instead of 10 Mb/s (CRF 4 is
+# about 116 Mb/s at 1080p), into build/bench-lift/NAME-crfN: the bit rate's
+# share of the lift's error.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 softbench=${SOFTBENCH:-./build/release/softbench}
@@ -16,13 +19,18 @@ names=("$@")
 [[ ${#names[@]} -gt 0 ]] || names=(delta floating)
 for name in "${names[@]}"; do
   dir=$out/$name
+  quality=(--bitrate-mbps 10)
+  if [[ -n ${LIFT_CRF:-} ]]; then
+    dir=$out/$name-crf$LIFT_CRF
+    quality=(--crf "$LIFT_CRF")
+  fi
   mkdir -p "$dir"
   if [[ ! -f $dir/clip.mp4 ]]; then
     echo "rendering $dir/clip.mp4..." >&2
     $softbench --quiet render --plan "bench/lift_$name.plan.yaml" \
       --out "$dir/clip.tmp.mp4" --truth "$dir/truth.csv" \
       --plan-out "$dir/plan.yaml" --preset veryfast --resolution 1080p \
-      --bitrate-mbps 10 --seed 27
+      "${quality[@]}" --seed 27
     mv "$dir/clip.tmp.mp4" "$dir/clip.mp4"
   fi
   $softbench --quiet validate "$dir/clip.mp4" --plan "$dir/plan.yaml" \
