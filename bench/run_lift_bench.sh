@@ -20,7 +20,9 @@ names=("$@")
 for name in "${names[@]}"; do
   dir=$out/$name
   quality=(--bitrate-mbps 10)
+  label=$name
   if [[ -n ${LIFT_CRF:-} ]]; then
+    label="$name, CRF $LIFT_CRF"
     dir=$out/$name-crf$LIFT_CRF
     quality=(--crf "$LIFT_CRF")
   fi
@@ -37,7 +39,7 @@ for name in "${names[@]}"; do
     --out "$dir/report" >/dev/null
   $softbench --quiet validate "$dir/clip.mp4" --plan "$dir/plan.yaml" \
     --lift-correction --out "$dir/report-corrected" >/dev/null
-  bench/score_lift.py "$dir/truth.csv" "$dir/report" "$name"
+  bench/score_lift.py "$dir/truth.csv" "$dir/report" "$label"
   bench/score_lift.py "$dir/truth.csv" "$dir/report-corrected" \
-    "$name (--lift-correction)"
+    "$label (--lift-correction)"
 done
