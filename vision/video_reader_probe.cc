@@ -97,6 +97,7 @@ void VideoReader::State::Open() {
   avcodec_parameters_to_context(codec, st->codecpar);
   codec->thread_count = options.threads;
   codec->thread_type = FF_THREAD_FRAME | FF_THREAD_SLICE;
+  CountDecoderErrors();
   err = avcodec_open2(codec, decoder, nullptr);
   if (err < 0) Fail("cannot open the decoder (" + FfmpegError(err) + ")");
   packet = av_packet_alloc();

@@ -4,6 +4,7 @@
 // VideoReader's insides, shared by its three files: probing the file
 // (video_reader_probe.cc), decoding and seeking (video_reader.cc) and
 // converting frames (video_reader_convert.cc). Not for other code.
+#include <atomic>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -68,6 +69,13 @@ struct VideoReader::State {
   int header_width = 0, header_height = 0;
   std::vector<VideoReader::DamagedFrame> damaged;
   bool tainted = false;  // damaged data since the last key frame
+  // Errors the decoder logged while decoding (counted from any of its
+  // threads, through FFmpeg's log callback), those already attributed to
+  // frames returned, and how many frames still to be returned may hold
+  // the last of them (NoteReturned).
+  std::atomic<int64_t> decode_errors{0};
+  int64_t errors_noted = 0;
+  int suspect_frames = 0;
   double last_good_time = 0.0;
   int64_t last_good_pts = AV_NOPTS_VALUE;
   // While seeking: packets presented before this are decoded only when
@@ -79,6 +87,10 @@ struct VideoReader::State {
   // Opens the file and its decoder: a folder, a device, an empty file, a
   // file FFmpeg cannot read and an absurd picture size are refused by name.
   void Open();
+
+  // Counts the errors the decoder logs on this reader (decode_errors);
+  // before the decoder is opened, so its threads' contexts inherit it.
+  void CountDecoderErrors();
 
   // The stream's codec, frame rate, length, rotation and upright size.
   void ReadStreamInfo();
@@ -103,7 +115,8 @@ struct VideoReader::State {
   bool DecodeNext();
 
   // Whether the frame about to be returned shows damaged data: the decoder
-  // reported errors in it, or in a frame since the last key frame (errors
+  // reported errors in it or logged errors while it may have been decoding
+  // it, or did either for a frame since the last key frame (errors
   // propagate through the frames predicted from a concealed one, and the
   // decoder does not flag those).
   bool FrameDamaged() const { return tainted; }
@@ -115,6 +128,13 @@ struct VideoReader::State {
   void NoteReturned();
 
   double FrameTime() const;
+
+  // After a flush of the decoder: the frames it held are gone, and with
+  // them what its logged errors could be blamed on.
+  void ForgetSuspects() {
+    errors_noted = decode_errors.load();
+    suspect_frames = 0;
+  }
 
   // Decodes the next frame and checks that the stream did not end early.
   bool Next();
