@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -193,6 +194,34 @@ CameraCalibration LoadCameraCalibration(const std::string& path) {
   }
   if (const cv::FileNode error = fs["avg_reprojection_error"]; !error.empty())
     c.reprojection_error_px = static_cast<double>(error);
+  // The standard errors, where the file has them (OpenCV's own tools do not
+  // write them): without, the budget has no intrinsics term.
+  const auto read_std = [&](const char* key, size_t min_size, double* out,
+                            size_t size) {
+    const cv::FileNode node = fs[key];
+    if (node.empty()) return;
+    cv::Mat values;
+    node >> values;
+    if (values.empty() || values.total() < min_size || values.total() > size) {
+      throw InputError(fmt::format(
+          "{}: '{}' must have {} values; write the file with softbench "
+          "calibrate-camera",
+          path, key,
+          min_size == size ? fmt::format("{}", size)
+                           : fmt::format("{} to {}", min_size, size)));
+    }
+    values.convertTo(values, CV_64F);
+    for (size_t i = 0; i < values.total(); ++i) {
+      out[i] = values.at<double>(static_cast<int>(i));
+      if (!std::isfinite(out[i]) || out[i] < 0.0) {
+        throw InputError(fmt::format(
+            "{}: '{}' value {} is {}; standard errors are finite and >= 0",
+            path, key, i + 1, out[i]));
+      }
+    }
+  };
+  read_std("intrinsics_std_px_fx_fy_cx_cy", 4, c.intrinsics_std_px.data(), 4);
+  read_std("distortion_coefficients_std", 4, c.distortion_std.data(), 5);
   return c;
 }
 

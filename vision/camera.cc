@@ -1,6 +1,7 @@
 #include "vision/camera.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <utility>
@@ -42,6 +43,12 @@ std::optional<std::string> CameraIntrinsics::Problem() const {
   }
   for (double d : distortion) {
     if (!std::isfinite(d)) return "distortion coefficients must be finite";
+  }
+  const auto valid_std = [](double s) { return std::isfinite(s) && s >= 0.0; };
+  if (!std::all_of(intrinsics_std_px.begin(), intrinsics_std_px.end(),
+                   valid_std) ||
+      !std::all_of(distortion_std.begin(), distortion_std.end(), valid_std)) {
+    return "standard errors must be finite and >= 0";
   }
   return std::nullopt;
 }

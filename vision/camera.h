@@ -21,6 +21,12 @@ struct CameraIntrinsics {
   double cx_px = 959.5;
   double cy_px = 539.5;
   std::array<double, 5> distortion{};  // k1, k2, p1, p2, k3
+  // Standard errors of fx, fy, cx, cy [px] and of the distortion
+  // coefficients, as a calibration's fit gives them (calibrate-camera
+  // writes them): what the uncertainty budget propagates. 0: exact or not
+  // known.
+  std::array<double, 4> intrinsics_std_px{};
+  std::array<double, 5> distortion_std{};
 
   // The thesis's set-up (fig. 4.7): a 52 mm 35-mm-equivalent focal length,
   // centred principal point, no distortion, at the given resolution.

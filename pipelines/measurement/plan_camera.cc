@@ -88,6 +88,8 @@ CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
   k.cx_px = file.camera_matrix(0, 2);
   k.cy_px = file.camera_matrix(1, 2);
   k.distortion = file.distortion;
+  k.intrinsics_std_px = file.intrinsics_std_px;
+  k.distortion_std = file.distortion_std;
   if (auto problem = k.Problem()) {
     throw InputError(c.intrinsics_path + ": " + *problem);
   }
@@ -162,6 +164,63 @@ PlaneMapping PlanMapping(
   throw InputError(plan.path +
                    ": calibration needs a tag, mm_per_px or scale_from_dots "
                    "to turn pixels into millimetres");
+}
+
+IntrinsicsSensitivity::IntrinsicsSensitivity(
+    const TestPlan& plan, const CameraIntrinsics& intrinsics,
+    const PlaneMapping& nominal,
+    const std::optional<std::array<Eigen::Vector2d, 4>>& tag_corners)
+    : nominal_(nominal) {
+  const CalibrationSpec& c = plan.calibration;
+  const double mm_per_px = nominal.MmPerPixelAt(
+      Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
+  const auto remap = [&](const CameraIntrinsics& k) {
+    return tag_corners ? PlaneMapping::FromTag(k, *tag_corners, c.tag->size_mm,
+                                               c.plane_offset_mm)
+                       : PlaneMapping::FromScale(
+                             k, mm_per_px,
+                             c.image_rotation_deg * std::numbers::pi / 180.0);
+  };
+  // Each parameter a standard error either side (a central difference: a
+  // lens's distortion bends far out in the field, where a one-sided step
+  // would count its curvature as slope).
+  const auto add = [&](double* parameter, double std, CameraIntrinsics* k) {
+    if (!(std > 0.0)) return;
+    const double value = *parameter;
+    *parameter = value + std;
+    PlaneMapping plus = remap(*k);
+    *parameter = value - std;
+    PlaneMapping minus = remap(*k);
+    *parameter = value;
+    perturbed_.emplace_back(std::move(plus), std::move(minus));
+  };
+  CameraIntrinsics k = intrinsics;
+  double* const focal_and_centre[] = {&k.fx_px, &k.fy_px, &k.cx_px, &k.cy_px};
+  for (int i = 0; i < 4; ++i) {
+    add(focal_and_centre[i], intrinsics.intrinsics_std_px[i], &k);
+  }
+  for (size_t i = 0; i < k.distortion.size(); ++i) {
+    add(&k.distortion[i], intrinsics.distortion_std[i], &k);
+  }
+}
+
+Eigen::Vector2d IntrinsicsSensitivity::ChangeUncertaintyMm(
+    const Eigen::Vector2d& from_mm, const Eigen::Vector2d& to_mm) const {
+  Eigen::Vector2d variance = Eigen::Vector2d::Zero();
+  if (!nominal_) return variance;
+  // The pixels the nominal mapping took to these points, through each
+  // parameter's two mappings instead: the change's derivative in that
+  // parameter times its standard error (GUM's linear propagation).
+  const Eigen::Vector2d from_px = nominal_->ToPixel(from_mm);
+  const Eigen::Vector2d to_px = nominal_->ToPixel(to_mm);
+  const auto change = [&](const PlaneMapping& p) {
+    return Eigen::Vector2d(p.ToPlane(to_px) - p.ToPlane(from_px));
+  };
+  for (const auto& [plus, minus] : perturbed_) {
+    const Eigen::Vector2d shift = 0.5 * (change(plus) - change(minus));
+    variance += shift.array().square().matrix();
+  }
+  return variance.array().sqrt();
 }
 
 std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan) {

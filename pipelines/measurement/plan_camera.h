@@ -5,6 +5,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pipelines/formats/test_plan.h"
@@ -30,6 +31,41 @@ PlaneMapping PlanMapping(
     const TestPlan& plan, VideoReader* reader,
     const CameraIntrinsics& intrinsics, int tag_frames, std::string* source,
     std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners = nullptr);
+
+// How the plan's mapping depends on the intrinsics' standard errors
+// (CameraIntrinsics::intrinsics_std_px, distortion_std): the mapping made
+// again from the same evidence (the tag's corners, or the scale) with each
+// parameter moved by its standard error either way, one at a time. A
+// calibration's fit gives only each parameter's standard deviation, not their
+// covariance, so the parameters' effects add in quadrature.
+class IntrinsicsSensitivity {
+ public:
+  IntrinsicsSensitivity() = default;
+  // `nominal` is the plan's mapping through `intrinsics`; `tag_corners` the
+  // corners it was made from, when the plan has a tag (else the mapping is
+  // a scale's, made again with the same scale at the image centre, which
+  // for a scale from the dots overstates the term: the dots would have
+  // taken part of the change into the scale).
+  IntrinsicsSensitivity(
+      const TestPlan& plan, const CameraIntrinsics& intrinsics,
+      const PlaneMapping& nominal,
+      const std::optional<std::array<Eigen::Vector2d, 4>>& tag_corners);
+
+  // False without standard errors: no term.
+  bool Known() const { return !perturbed_.empty(); }
+  // The standard uncertainty per axis [mm] that the intrinsics give the
+  // change of a point on the dot plane from `from_mm` to `to_mm` (plane
+  // coordinates, as the mapping gives them): each parameter's change of
+  // the change, in quadrature.
+  Eigen::Vector2d ChangeUncertaintyMm(const Eigen::Vector2d& from_mm,
+                                      const Eigen::Vector2d& to_mm) const;
+
+ private:
+  std::optional<PlaneMapping> nominal_;
+  // Per parameter with an error, the mapping with it a standard error
+  // above and below its value.
+  std::vector<std::pair<PlaneMapping, PlaneMapping>> perturbed_;
+};
 
 // The plan's heads as the tracker needs them.
 std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan);

@@ -186,11 +186,12 @@ Registrations MakeRegistrations(
 // frame (AverageTagCorners), once there are at least `min_frames` of them:
 // the first frames' mapping tilts the plane by a few tenths of a degree on
 // codec noise, which bends the scale across the field (0.065 % at a head
-// 67 mm from the tag). Sets `m`'s mapping and scale; else keeps them.
-PlaneMapping TagMappingOverTheVideo(const TestPlan& plan,
-                                    const CameraIntrinsics& intrinsics,
-                                    const Registrations& registrations,
-                                    int min_frames, VideoMeasurement* m) {
+// 67 mm from the tag). Sets `m`'s mapping and scale, and `tag_corners` to
+// the corners it was made from; else keeps them.
+PlaneMapping TagMappingOverTheVideo(
+    const TestPlan& plan, const CameraIntrinsics& intrinsics,
+    const Registrations& registrations, int min_frames, VideoMeasurement* m,
+    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners) {
   if (!registrations.reference || !registrations.reference->tag) {
     return *m->mapping;
   }
@@ -200,10 +201,9 @@ PlaneMapping TagMappingOverTheVideo(const TestPlan& plan,
   }
   if (static_cast<int>(seen.size()) < min_frames) return *m->mapping;
   const CalibrationSpec& c = plan.calibration;
-  m->mapping = PlaneMapping::FromTag(
-      intrinsics,
-      AverageTagCorners(registrations.reference->tag->corners, seen),
-      c.tag->size_mm, c.plane_offset_mm);
+  *tag_corners = AverageTagCorners(registrations.reference->tag->corners, seen);
+  m->mapping = PlaneMapping::FromTag(intrinsics, **tag_corners, c.tag->size_mm,
+                                     c.plane_offset_mm);
   m->mm_per_px = m->mapping->MmPerPixelAt(
       Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
   return *m->mapping;
@@ -467,11 +467,14 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   progress.Finish();
   for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
   if (m.registers_frames) {
-    FollowCameraPath(TagMappingOverTheVideo(plan, intrinsics, registrations,
-                                            options.tag_frames, &m),
-                     measurers.front().tracker(), options.camera_path,
-                     info.frame_interval_s, &m.frames);
+    FollowCameraPath(
+        TagMappingOverTheVideo(plan, intrinsics, registrations,
+                               options.tag_frames, &m, &tag_corners),
+        measurers.front().tracker(), options.camera_path, info.frame_interval_s,
+        &m.frames);
   }
+  m.intrinsics_sensitivity =
+      IntrinsicsSensitivity(plan, intrinsics, *m.mapping, tag_corners);
   Finish(plan, info, options, &m);
   return m;
 }

@@ -9,6 +9,7 @@
 
 #include "pipelines/formats/test_plan.h"
 #include "pipelines/measurement/frame_sample.h"
+#include "pipelines/measurement/plan_camera.h"
 #include "pipelines/measurement/window_frames.h"
 #include "vision/bench_registration.h"
 #include "vision/camera_path.h"
@@ -94,6 +95,9 @@ struct VideoMeasurement {
   double last_frame_s = 0.0;
   bool every_frame = true;  // false: only the requested spans were read
   std::optional<PlaneMapping> mapping;
+  // How `mapping` depends on the intrinsics' standard errors (the budget's
+  // intrinsics term); not Known() without them.
+  IntrinsicsSensitivity intrinsics_sensitivity;
   std::vector<FrameSnapshot> snapshots;  // in time order
   // Crops kept for the windows' middles before the times were known
   // (VideoMeasurementOptions::window_frames), in time order.

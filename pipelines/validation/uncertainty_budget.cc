@@ -237,6 +237,12 @@ UncertaintyBudget ChangeBudget(const WindowSummary& from,
     budget.terms.push_back(
         {"scale", Eigen::Vector2d::Constant(context.scale_relative * length)});
   }
+  if (context.intrinsics != nullptr && context.intrinsics->Known()) {
+    budget.terms.push_back(
+        {"intrinsics", context.intrinsics->ChangeUncertaintyMm(
+                           context.rest_mm + from.median_mm[h],
+                           context.rest_mm + to.median_mm[h])});
+  }
   Eigen::Vector2d variance = Eigen::Vector2d::Zero();
   for (const UncertaintyTerm& term : budget.terms) {
     variance += term.u_mm.array().square().matrix();

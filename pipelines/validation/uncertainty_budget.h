@@ -8,12 +8,14 @@
 
 namespace softbench {
 
+class IntrinsicsSensitivity;
 struct VideoMeasurement;
 struct WindowSummary;
 
 // One source of error in a measured change of a head's position.
 struct UncertaintyTerm {
-  std::string name;  // "window scatter", "dots", "codec", "scale"
+  // "window scatter", "dots", "codec", "scale", "intrinsics"
+  std::string name;
   // Standard uncertainty of the change's y and z [mm].
   Eigen::Vector2d u_mm = Eigen::Vector2d::Zero();
 };
@@ -55,6 +57,11 @@ struct HeadUncertaintyContext {
   // whether from the tag's size and pose, the lens or the camera's
   // distance. It scales a change's length.
   double scale_relative = 0.0;
+  // How the mapping depends on the intrinsics' standard errors (not owned;
+  // null or not Known(): no term), and the head's rest position [mm, plane
+  // coordinates] that the windows' displacements are from.
+  const IntrinsicsSensitivity* intrinsics = nullptr;
+  Eigen::Vector2d rest_mm = Eigen::Vector2d::Zero();
 };
 
 // HeadUncertaintyContext::scale_relative from the windows' dot medians of

@@ -479,6 +479,10 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
     context.codec_level_mm2 = codec.variance_mm2;
     context.scale_relative =
         LayoutScaleUncertainty(windows, h, plan.markers[h].layout_mm);
+    context.intrinsics = &measurement.intrinsics_sensitivity;
+    if (static_cast<size_t>(h) < measurement.rest_mm.size()) {
+      context.rest_mm = measurement.rest_mm[h];
+    }
     double squares = 0.0;
     for (const TestScore& t : *tests) {
       if (!t.measured) continue;

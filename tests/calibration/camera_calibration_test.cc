@@ -47,6 +47,8 @@ TEST(CameraCalibration, YamlRoundTripsThroughOpenCvFormat) {
   c.distortion = {-0.1, 0.02, 1e-4, -2e-4, 0.0};
   c.reprojection_error_px = 0.042;
   c.views = 12;
+  c.intrinsics_std_px = {1.5, 1.25, 0.75, 0.5};
+  c.distortion_std = {0.002, 0.004, 1e-5, 2e-5, 0.0};
   const fs::path path = TestScratch().dir() / "softbench_camera.yaml";
   WriteFileAtomically(path.string(), CameraCalibrationToYaml(c));
   const CameraCalibration back = LoadCameraCalibration(path.string());
@@ -57,6 +59,40 @@ TEST(CameraCalibration, YamlRoundTripsThroughOpenCvFormat) {
   for (int i = 0; i < 5; ++i)
     EXPECT_DOUBLE_EQ(back.distortion[i], c.distortion[i]);
   EXPECT_DOUBLE_EQ(back.reprojection_error_px, 0.042);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_DOUBLE_EQ(back.intrinsics_std_px[i], c.intrinsics_std_px[i]);
+  }
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_DOUBLE_EQ(back.distortion_std[i], c.distortion_std[i]);
+  }
+  fs::remove(path);
+}
+
+// The standard errors are optional (OpenCV's own tools do not write them),
+// but a negative one is refused with the file, the key and the value.
+TEST(CameraCalibration, StandardErrorsAreOptionalAndNeverNegative) {
+  const std::string base =
+      "%YAML:1.0\n---\nimage_width: 1920\nimage_height: 1080\n"
+      "camera_matrix: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n"
+      "  data: [2650., 0., 960., 0., 2650., 540., 0., 0., 1.]\n"
+      "distortion_coefficients: !!opencv-matrix\n  rows: 1\n  cols: 5\n"
+      "  dt: d\n  data: [-0.1, 0.02, 0., 0., 0.]\n";
+  const fs::path path = TestScratch().dir() / "softbench_camera_std.yaml";
+  WriteFileAtomically(path.string(), base);
+  const CameraCalibration plain = LoadCameraCalibration(path.string());
+  for (double s : plain.intrinsics_std_px) EXPECT_EQ(s, 0.0);
+  for (double s : plain.distortion_std) EXPECT_EQ(s, 0.0);
+  WriteFileAtomically(
+      path.string(),
+      base +
+          "distortion_coefficients_std: !!opencv-matrix\n  rows: 1\n"
+          "  cols: 5\n  dt: d\n  data: [0.002, -0.004, 0., 0., 0.]\n");
+  const std::string message =
+      InputErrorOf([&] { LoadCameraCalibration(path.string()); });
+  EXPECT_NE(message.find("softbench_camera_std.yaml: "
+                         "'distortion_coefficients_std' value 2 is -0.004"),
+            std::string::npos)
+      << message;
   fs::remove(path);
 }
 

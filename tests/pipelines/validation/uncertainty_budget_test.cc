@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "pipelines/measurement/plan_camera.h"
 #include "pipelines/validation/validation.h"
 #include "tests/support/coverage.h"
 #include "tests/support/held_measurement.h"
@@ -212,6 +213,33 @@ TEST(StillIntraJumps, MeasuresTheLevelsOfAStillHeadOnly) {
     f.heads[0].displacement_mm.x() += 0.01 * f.frame;  // 1 px a frame
   }
   EXPECT_TRUE(StillIntraJumps(moving, 0).empty());
+}
+
+// With the intrinsics' standard errors known, the budget has their term.
+TEST(UncertaintyBudget, HasTheIntrinsicsTermWhenTheirErrorsAreKnown) {
+  const std::vector<Eigen::Vector2d> dots = {{0, 0}, {1, 0}, {0, 1}};
+  WindowSummary from = WindowWithDots(dots), to = WindowWithDots(dots);
+  from.median_mm = {Eigen::Vector2d::Zero()};
+  to.median_mm = {Eigen::Vector2d(1.5, -0.8)};
+  const TestPlan plan = ManyTestsPlan(1);
+  CameraIntrinsics k =
+      CameraIntrinsics::FromEquivalentFocalLength(26, 1920, 1080);
+  k.distortion = {-0.1, 0.0, 0.0, 0.0, 0.0};
+  k.distortion_std = {0.01, 0.0, 0.0, 0.0, 0.0};
+  const PlaneMapping mapping = PlaneMapping::FromScale(k, 0.2, 0.0);
+  const IntrinsicsSensitivity sensitivity(plan, k, mapping, std::nullopt);
+  HeadUncertaintyContext context;
+  context.intrinsics = &sensitivity;
+  context.rest_mm = Eigen::Vector2d(120.0, 60.0);
+  const UncertaintyBudget b = ChangeBudget(from, to, 0, context);
+  ASSERT_EQ(b.terms.size(), 2u);
+  EXPECT_EQ(b.terms[1].name, "intrinsics");
+  const Eigen::Vector2d expected = sensitivity.ChangeUncertaintyMm(
+      context.rest_mm, context.rest_mm + to.median_mm[0]);
+  EXPECT_GT(expected.norm(), 0.0);
+  EXPECT_NEAR((b.terms[1].u_mm - expected).norm(), 0.0, 1e-15);
+  context.intrinsics = nullptr;
+  EXPECT_EQ(ChangeBudget(from, to, 0, context).terms.size(), 1u);
 }
 
 // Hysteresis is judged against its U: a slip of 0.3 mm exceeds 0.05 mm
