@@ -47,6 +47,7 @@ def google_benchmark(binary, benchmark_filter, *files):
         scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
         return medians[0]["real_time"] * scale[medians[0]["time_unit"]]
 
+    run.binary = os.path.join("bench", binary)
     return run
 
 
@@ -64,6 +65,7 @@ def command(*arguments):
                      f"{result.stderr.strip()}")
         return elapsed
 
+    run.binary = "softbench"
     return run
 
 
@@ -111,16 +113,15 @@ def main():
     if args.rounds < 1:
         sys.exit("--rounds must be at least 1")
     builds = {"old": os.path.abspath(args.old), "new": os.path.abspath(args.new)}
+    workloads = [w for w in WORKLOADS if args.only in w[0]]
+    if not workloads:
+        sys.exit(f"--only {args.only!r}: no workload's name contains it")
     for which, build in builds.items():
-        for binary in ("softbench", "bench/model_benchmark",
-                       "bench/video_benchmark"):
+        for binary in sorted({run.binary for _, run in workloads}):
             if not os.access(os.path.join(build, binary), os.X_OK):
                 sys.exit(f"{build}: no {binary} in this {which} build; build "
                          "it there (cmake --build BUILD --target softbench "
                          "video_benchmark fit_benchmark model_benchmark)")
-    workloads = [w for w in WORKLOADS if args.only in w[0]]
-    if not workloads:
-        sys.exit(f"--only {args.only!r}: no workload's name contains it")
     if any(name.startswith("fit") for name, _ in workloads) and \
             not os.path.exists(os.path.join(LOGS, "manifest.yaml")):
         print(f"writing the 24 M-row force logs to {LOGS} ...", file=sys.stderr)

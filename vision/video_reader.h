@@ -61,6 +61,10 @@ struct VideoInfo {
   // Every frame's presentation time in order, from the container's packets:
   // phones write variable frame rate, so frame k is not at k / fps.
   std::vector<double> frame_times_s;
+  // The key frames' presentation times in order, from the same packets
+  // (where a seek lands and a codec draws the picture afresh); empty when
+  // the container gives no timestamps.
+  std::vector<double> key_frame_times_s;
   // The median interval between frames, and whether the intervals vary by
   // more than 1 % (variable frame rate).
   double frame_interval_s = 0.0;

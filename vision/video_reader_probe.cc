@@ -223,16 +223,19 @@ void VideoReader::State::ReadFrameTimes() {
 }
 
 void VideoReader::State::ScanFrameTimes() {
+  std::vector<int64_t> key_pts;
   for (;;) {
     if (av_read_frame(format, packet) < 0) break;
     if (packet->stream_index == stream &&
         (packet->flags & AV_PKT_FLAG_DISCARD) == 0) {
       if (packet->pts == AV_NOPTS_VALUE) {
         frame_pts.clear();  // no timestamps: frames are k / fps
+        key_pts.clear();
         av_packet_unref(packet);
         break;
       }
       frame_pts.push_back(packet->pts);
+      if (packet->flags & AV_PKT_FLAG_KEY) key_pts.push_back(packet->pts);
     }
     av_packet_unref(packet);
   }
@@ -241,6 +244,10 @@ void VideoReader::State::ScanFrameTimes() {
                   frame_pts.end());
   for (const int64_t pts : frame_pts) {
     info.frame_times_s.push_back((pts - start_pts) * av_q2d(time_base));
+  }
+  std::sort(key_pts.begin(), key_pts.end());
+  for (const int64_t pts : key_pts) {
+    info.key_frame_times_s.push_back((pts - start_pts) * av_q2d(time_base));
   }
   Rewind();
 }

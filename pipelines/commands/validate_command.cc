@@ -128,7 +128,9 @@ void AddValidateCommand(CLI::App* c, ValidateCommandOptions* options) {
   AddDecimalCommaFlag(c, &options->decimal_comma);
   c->add_flag("--windows-only", options->windows_only,
               "read only the frames of the tests' windows, seeking between "
-              "them (needs the times in the plan)");
+              "them, and a few around key frames elsewhere when the windows "
+              "show too few for the uncertainty's codec term (needs the "
+              "times in the plan)");
   c->add_option("--variant", options->variant,
                 ModelVariantNames() + " (default: the plan's)");
 }

@@ -48,6 +48,14 @@ VideoMeasurementOptions MeasurementOptions(
         measure.spans.push_back({w.start_s, w.end_s});
       }
     }
+    // Key frames around which a still head shows the codec's error, when
+    // the windows hold too few (uncertainty_budget.h).
+    CodecJumpSpanOptions jumps = options.codec_jump_spans;
+    jumps.min_jumps = options.scoring.min_codec_jumps;
+    for (const TimeSpan& span :
+         PlanCodecJumpSpans(plan, measure.spans, reader.info(), jumps).spans) {
+      measure.spans.push_back(span);
+    }
   }
   return measure;
 }
@@ -116,6 +124,9 @@ std::optional<std::string> VideoValidationOptions::Problem() const {
   if (!(rest_s > 0.0)) return "rest_s: must be > 0 s";
   if (auto problem = scoring.Problem()) return "scoring: " + *problem;
   if (auto problem = detection.Problem()) return "detection: " + *problem;
+  if (auto problem = codec_jump_spans.Problem()) {
+    return "codec_jump_spans: " + *problem;
+  }
   return std::nullopt;
 }
 

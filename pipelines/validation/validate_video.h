@@ -9,6 +9,7 @@
 #include "pipelines/measurement/pressure_log.h"
 #include "pipelines/measurement/test_point_detection.h"
 #include "pipelines/measurement/video_measurement.h"
+#include "pipelines/validation/codec_jump_spans.h"
 #include "pipelines/validation/validation.h"
 
 namespace softbench {
@@ -20,8 +21,14 @@ struct VideoValidationOptions {
   // Without times in the plan: seconds at rest at the start of the video.
   double rest_s = 1.0;
   // Read only the frames of the tests' windows, seeking between them (the
-  // plan must give the times); the trajectory then holds those frames only.
+  // plan must give the times), and, where the windows hold too few still
+  // I pictures for the uncertainty's codec term, a few frames around key
+  // frames elsewhere (codec_jump_spans.h); the trajectory then holds those
+  // frames only.
   bool windows_only = false;
+  // Which key frames windows_only also reads; its min_jumps is taken from
+  // scoring.min_codec_jumps.
+  CodecJumpSpanOptions codec_jump_spans;
   // Register every frame to the bench; false takes the camera to be still
   // (the thesis's method).
   bool register_frames = true;

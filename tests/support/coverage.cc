@@ -25,6 +25,19 @@ std::string RandomDeltaTests(int count, uint32_t seed,
   return yaml;
 }
 
+TestPlan TimedDeltaPlan(int count) {
+  const std::string yaml =
+      "mechanism: delta\n"
+      "pressure_unit: psi\n"
+      "calibration: {mm_per_px: 0.1}\n"
+      "tests:\n" +
+      RandomDeltaTests(count, 3, [](int i) {
+        return ", actuate_s: " + std::to_string(2.0 + 6.0 * i) +
+               ", release_s: " + std::to_string(5.0 + 6.0 * i);
+      });
+  return ParseTestPlan(yaml, "plan.yaml");
+}
+
 void ExpectCoverageTargets(const std::vector<double>& errors_mm,
                            const std::vector<double>& u_mm) {
   ASSERT_EQ(errors_mm.size(), u_mm.size());

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "pipelines/formats/test_plan.h"
+
 namespace softbench {
 
 // `count` test points of a delta plan's `tests:` list, "  - {id: tI,
@@ -14,6 +16,10 @@ namespace softbench {
 std::string RandomDeltaTests(
     int count, uint32_t seed,
     const std::function<std::string(int)>& extra = [](int) { return ""; });
+
+// A delta plan (mm_per_px 0.1, no tag) of `count` such test points, one
+// after another: actuated for 3 s from 2 + 6i s, then resting 3 s.
+TestPlan TimedDeltaPlan(int count);
 
 // Checks issue 26's targets for measured errors against their reported
 // standard uncertainties u (both [mm], same order): at least 95 % within

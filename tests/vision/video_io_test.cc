@@ -71,6 +71,12 @@ TEST(VideoIo, WrittenVideoReadsBackWithItsFactsAndTimes) {
   EXPECT_DOUBLE_EQ(reader.info().fps, 30.0);
   EXPECT_EQ(reader.info().frame_count, 45);
   EXPECT_NEAR(reader.info().duration_s, 1.5, 1e-9);
+  // A key frame every 15 frames, known before any is decoded.
+  const std::vector<double> key_frames_s = {0.0, 0.5, 1.0};
+  ASSERT_EQ(reader.info().key_frame_times_s.size(), key_frames_s.size());
+  for (size_t i = 0; i < key_frames_s.size(); ++i) {
+    EXPECT_NEAR(reader.info().key_frame_times_s[i], key_frames_s[i], 1e-9);
+  }
   VideoFrame frame;
   int k = 0;
   while (reader.Read(&frame)) {
@@ -78,6 +84,9 @@ TEST(VideoIo, WrittenVideoReadsBackWithItsFactsAndTimes) {
     EXPECT_NEAR(frame.time_s, k / 30.0, 1e-9);
     EXPECT_TRUE(IsFrame(frame.bgr, k, {320, 240})) << k;
     ASSERT_EQ(frame.luma.type(), CV_8UC1);
+    if (k % 15 == 0) {
+      EXPECT_TRUE(frame.intra) << k;
+    }
     ++k;
   }
   EXPECT_EQ(k, 45);

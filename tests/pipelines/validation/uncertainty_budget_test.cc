@@ -91,20 +91,6 @@ TEST(UncertaintyBudget, AddsIndependentTermsInQuadrature) {
   EXPECT_EQ(b.Largest(), "codec");
 }
 
-// One delta test after another, each actuated for 3 s and resting 3 s.
-TestPlan ManyTestsPlan(int tests) {
-  std::string yaml =
-      "mechanism: delta\n"
-      "pressure_unit: psi\n"
-      "calibration: {mm_per_px: 0.1}\n"
-      "tests:\n" +
-      RandomDeltaTests(tests, 3, [](int i) {
-        return ", actuate_s: " + std::to_string(2.0 + 6.0 * i) +
-               ", release_s: " + std::to_string(5.0 + 6.0 * i);
-      });
-  return ParseTestPlan(yaml, "plan.yaml");
-}
-
 // The held measurement of `plan` with a codec's errors: every `gop` frames
 // an I picture draws the head afresh with a new level error (sigma
 // `level_mm` per axis) and each dot a new error of its own (`dot_mm`); the
@@ -147,7 +133,7 @@ VideoMeasurement CodecLikeMeasurement(const TestPlan& plan, double end_s,
 // displacements within U = 2u, 60 % within u, and u not inflated (median u
 // at most 2x the RMS error), over 4 videos of 40 test points.
 TEST(UncertaintyBudget, CoversCodecLikeErrorsAtTheStatedRates) {
-  const TestPlan plan = ManyTestsPlan(40);
+  const TestPlan plan = TimedDeltaPlan(40);
   const VideoMeasurement held = HeldMeasurement(plan, 245.0, 0.0);
   const ValidationResult truth = ScoreTests(plan, held, ValidationOptions());
   std::vector<double> errors, u;
@@ -173,7 +159,7 @@ TEST(UncertaintyBudget, CoversCodecLikeErrorsAtTheStatedRates) {
 // Without still I pictures the codec's term cannot be measured, and the
 // result says so; with enough of them it does not.
 TEST(ScoreTests, WarnsWhenTheCodecTermRestsOnTooFewJumps) {
-  const TestPlan plan = ManyTestsPlan(8);
+  const TestPlan plan = TimedDeltaPlan(8);
   const auto warned = [&](const VideoMeasurement& m) {
     for (const std::string& w :
          ScoreTests(plan, m, ValidationOptions()).warnings) {
@@ -189,7 +175,7 @@ TEST(ScoreTests, WarnsWhenTheCodecTermRestsOnTooFewJumps) {
 // A head still between I pictures jumps at each by the difference of two
 // levels, and so does its lift; a moving head gives no jumps.
 TEST(StillIntraJumps, MeasuresTheLevelsOfAStillHeadOnly) {
-  const TestPlan plan = ManyTestsPlan(4);
+  const TestPlan plan = TimedDeltaPlan(4);
   VideoMeasurement m =
       CodecLikeMeasurement(plan, 25.0, 20, 0.004, 0.0, 0.0002, 7);
   ASSERT_TRUE(std::isnan(StillIntraJumps(m, 0)[0].lift_mm));
@@ -221,7 +207,7 @@ TEST(UncertaintyBudget, HasTheIntrinsicsTermWhenTheirErrorsAreKnown) {
   WindowSummary from = WindowWithDots(dots), to = WindowWithDots(dots);
   from.median_mm = {Eigen::Vector2d::Zero()};
   to.median_mm = {Eigen::Vector2d(1.5, -0.8)};
-  const TestPlan plan = ManyTestsPlan(1);
+  const TestPlan plan = TimedDeltaPlan(1);
   CameraIntrinsics k =
       CameraIntrinsics::FromEquivalentFocalLength(26, 1920, 1080);
   k.distortion = {-0.1, 0.0, 0.0, 0.0, 0.0};
