@@ -50,7 +50,18 @@ CodecJumpSpans PlanCodecJumpSpans(const TestPlan& plan,
                                 t + (kMinSide - 0.5) * dt <= span.end_s;
                        });
   };
-  for (const double t : info.key_frame_times_s) {
+  // A jump needs kMinSide frames on each side with no other I picture (an
+  // intra-only video has none).
+  std::vector<double> keys_s;
+  const std::vector<double>& all_s = info.key_frame_times_s;
+  for (size_t k = 0; k < all_s.size(); ++k) {
+    if ((k == 0 || all_s[k] - all_s[k - 1] > (kMinSide + 0.5) * dt) &&
+        (k + 1 == all_s.size() ||
+         all_s[k + 1] - all_s[k] > (kMinSide - 0.5) * dt)) {
+      keys_s.push_back(all_s[k]);
+    }
+  }
+  for (const double t : keys_s) {
     result.window_jumps += in_window(t) ? heads : 0;
   }
   if (result.window_jumps >= options.min_jumps) return result;
@@ -63,7 +74,7 @@ CodecJumpSpans PlanCodecJumpSpans(const TestPlan& plan,
   }
   const double reach_s = (options.frames_per_side + 0.5) * dt;
   std::vector<double> holds_s, rests_s;
-  for (const double t : info.key_frame_times_s) {
+  for (const double t : keys_s) {
     const double from_s = t - reach_s, to_s = t + reach_s;
     // The lead-in is the rest every position is taken from: left as read.
     if (in_window(t) || from_s < *plan.tests.front().actuate_s ||

@@ -107,6 +107,18 @@ TEST(PlanCodecJumpSpans, AddsNothingWhenTheWindowsHoldJumpsEnough) {
   EXPECT_EQ(planned.span_jumps, 0);
 }
 
+// Every frame a key frame (an intra-only video): no jump anywhere, so
+// nothing is worth reading for one.
+TEST(PlanCodecJumpSpans, ReadsNothingForAnIntraOnlyVideo) {
+  const TestPlan plan = TimedDeltaPlan(14);
+  const double end_s = 86.0;
+  const CodecJumpSpans planned = PlanCodecJumpSpans(
+      plan, WindowSpans(plan, end_s), VideoWithKeyFrames(end_s, 1.0 / 30.0),
+      CodecJumpSpanOptions());
+  EXPECT_EQ(planned.window_jumps, 0);
+  EXPECT_TRUE(planned.spans.empty());
+}
+
 // End to end on a codec's kind of error (a level per head drawn afresh at
 // each I picture, 1 s apart, and repeated until the next): the windows alone
 // show no jump, the planned spans show as many as the codec term needs.
