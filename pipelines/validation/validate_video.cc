@@ -49,7 +49,7 @@ VideoMeasurementOptions MeasurementOptions(
       }
     }
     // Key frames around which a still head shows the codec's error, when
-    // the windows hold too few (uncertainty_budget.h).
+    // the windows hold too few (codec_jump_spans.h).
     CodecJumpSpanOptions jumps = options.codec_jump_spans;
     jumps.min_jumps = options.scoring.min_codec_jumps;
     for (const TimeSpan& span :
