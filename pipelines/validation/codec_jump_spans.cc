@@ -23,7 +23,6 @@ std::vector<double> SpreadEvenly(const std::vector<double>& times, size_t n) {
 }  // namespace
 
 std::optional<std::string> CodecJumpSpanOptions::Problem() const {
-  if (min_jumps < 0) return "min_jumps must be >= 0";
   if (!(settle_s >= 0.0)) return "settle_s must be >= 0 s";
   if (frames_per_side < kMinSide) {
     return "frames_per_side must be >= " + std::to_string(kMinSide);
@@ -33,7 +32,7 @@ std::optional<std::string> CodecJumpSpanOptions::Problem() const {
 
 CodecJumpSpans PlanCodecJumpSpans(const TestPlan& plan,
                                   const std::vector<TimeSpan>& window_spans,
-                                  const VideoInfo& info,
+                                  const VideoInfo& info, int min_jumps,
                                   const CodecJumpSpanOptions& options) {
   SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   SOFTBENCH_CHECK(plan.HasTimes()) << "codec jump spans need the test times";
@@ -64,7 +63,7 @@ CodecJumpSpans PlanCodecJumpSpans(const TestPlan& plan,
   for (const double t : keys_s) {
     result.window_jumps += in_window(t) ? heads : 0;
   }
-  if (result.window_jumps >= options.min_jumps) return result;
+  if (result.window_jumps >= min_jumps) return result;
 
   // The others well clear of every pressure change, by where they fall.
   std::vector<double> changes_s;
@@ -92,8 +91,7 @@ CodecJumpSpans PlanCodecJumpSpans(const TestPlan& plan,
         });
     (held ? holds_s : rests_s).push_back(t);
   }
-  const size_t wanted =
-      (options.min_jumps - result.window_jumps + heads - 1) / heads;
+  const size_t wanted = (min_jumps - result.window_jumps + heads - 1) / heads;
   const size_t rests = std::min(
       rests_s.size(),
       std::max((wanted + 1) / 2, wanted - std::min(wanted, holds_s.size())));

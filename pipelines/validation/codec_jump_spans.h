@@ -12,9 +12,6 @@
 namespace softbench {
 
 struct CodecJumpSpanOptions {
-  // The jumps of a still head at an I picture the codec term should rest on
-  // (ValidationOptions::min_codec_jumps).
-  int min_jumps = 10;
   // How long after a pressure change a head is taken to be still [s]: a
   // key frame nearer a change than this is not read for a jump. Only a
   // guess at where jumps are; StillIntraJumps checks the stillness itself.
@@ -45,11 +42,13 @@ struct CodecJumpSpans {
 // from each where there are, spread evenly over the video: a displacement
 // is one rest window against one hold window, and the codec's errors differ
 // between the two (a hold's key frames alone gave a budget 0.85x the
-// error). `window_spans` are the spans already to be read. Needs the
+// error). `window_spans` are the spans already to be read, `min_jumps` the
+// jumps the codec term should rest on (ValidationOptions::min_codec_jumps).
+// Needs the
 // plan's times and the video's key frames (none: no spans).
 CodecJumpSpans PlanCodecJumpSpans(const TestPlan& plan,
                                   const std::vector<TimeSpan>& window_spans,
-                                  const VideoInfo& info,
+                                  const VideoInfo& info, int min_jumps,
                                   const CodecJumpSpanOptions& options);
 
 }  // namespace softbench

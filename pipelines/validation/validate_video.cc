@@ -50,10 +50,11 @@ VideoMeasurementOptions MeasurementOptions(
     }
     // Key frames around which a still head shows the codec's error, when
     // the windows hold too few (codec_jump_spans.h).
-    CodecJumpSpanOptions jumps = options.codec_jump_spans;
-    jumps.min_jumps = options.scoring.min_codec_jumps;
     for (const TimeSpan& span :
-         PlanCodecJumpSpans(plan, measure.spans, reader.info(), jumps).spans) {
+         PlanCodecJumpSpans(plan, measure.spans, reader.info(),
+                            options.scoring.min_codec_jumps,
+                            options.codec_jump_spans)
+             .spans) {
       measure.spans.push_back(span);
     }
   }

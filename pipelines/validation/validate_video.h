@@ -26,7 +26,7 @@ struct VideoValidationOptions {
   // frames elsewhere (codec_jump_spans.h); the trajectory then holds those
   // frames only.
   bool windows_only = false;
-  // Which key frames windows_only also reads; its min_jumps is taken from
+  // Which key frames windows_only also reads, for as many jumps as
   // scoring.min_codec_jumps.
   CodecJumpSpanOptions codec_jump_spans;
   // Register every frame to the bench; false takes the camera to be still

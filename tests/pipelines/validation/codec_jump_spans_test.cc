@@ -66,7 +66,7 @@ TEST(PlanCodecJumpSpans, ReadsKeyFramesOfRestsAndHoldsClearOfEveryChange) {
   const std::vector<TimeSpan> windows = WindowSpans(plan, end_s);
   const CodecJumpSpanOptions options;
   const CodecJumpSpans planned =
-      PlanCodecJumpSpans(plan, windows, info, options);
+      PlanCodecJumpSpans(plan, windows, info, 10, options);
   // Every window ends at a change on a key frame: none inside a window.
   EXPECT_EQ(planned.window_jumps, 0);
   ASSERT_EQ(planned.spans.size(), 10u);
@@ -100,7 +100,7 @@ TEST(PlanCodecJumpSpans, AddsNothingWhenTheWindowsHoldJumpsEnough) {
   const double end_s = 86.0;
   // Key frames every 0.3 s: each 1 s window holds two or more well inside.
   const CodecJumpSpans planned = PlanCodecJumpSpans(
-      plan, WindowSpans(plan, end_s), VideoWithKeyFrames(end_s, 0.3),
+      plan, WindowSpans(plan, end_s), VideoWithKeyFrames(end_s, 0.3), 10,
       CodecJumpSpanOptions());
   EXPECT_GE(planned.window_jumps, 10);
   EXPECT_TRUE(planned.spans.empty());
@@ -113,7 +113,7 @@ TEST(PlanCodecJumpSpans, ReadsNothingForAnIntraOnlyVideo) {
   const TestPlan plan = TimedDeltaPlan(14);
   const double end_s = 86.0;
   const CodecJumpSpans planned = PlanCodecJumpSpans(
-      plan, WindowSpans(plan, end_s), VideoWithKeyFrames(end_s, 1.0 / 30.0),
+      plan, WindowSpans(plan, end_s), VideoWithKeyFrames(end_s, 1.0 / 30.0), 10,
       CodecJumpSpanOptions());
   EXPECT_EQ(planned.window_jumps, 0);
   EXPECT_TRUE(planned.spans.empty());
@@ -132,8 +132,9 @@ TEST(PlanCodecJumpSpans, GiveTheCodecTermTheJumpsItNeeds) {
   }
   const std::vector<TimeSpan> windows = WindowSpans(plan, end_s);
   ASSERT_EQ(MeasureCodecLevel(FramesIn(m, windows)).jumps, 0);
-  const CodecJumpSpans planned = PlanCodecJumpSpans(
-      plan, windows, VideoWithKeyFrames(end_s, 1.0), CodecJumpSpanOptions());
+  const CodecJumpSpans planned =
+      PlanCodecJumpSpans(plan, windows, VideoWithKeyFrames(end_s, 1.0), 10,
+                         CodecJumpSpanOptions());
   std::vector<TimeSpan> read = windows;
   read.insert(read.end(), planned.spans.begin(), planned.spans.end());
   const CodecLevel codec = MeasureCodecLevel(FramesIn(m, read));
