@@ -2,19 +2,30 @@
 """softbench's style checks, each an error when it finds anything:
 
   format  clang-format --dry-run --Werror on every C++ source (.clang-format)
-  tidy    clang-tidy on every library and program source (.clang-tidy), with
-          the build's compile_commands.json; any warning fails
+  tidy    clang-tidy on the library and program sources (.clang-tidy), with
+          the build's compile_commands.json; any warning fails. Every source
+          with --all; otherwise those changed since .ci/tidy_base (a commit
+          whose every source was tidied clean) and those that include a
+          changed header; every source when that commit is not in the
+          repository or the configuration differs from the one it was tidied
+          under (.clang-tidy, clang-tidy's version, the compile commands)
   js      ESLint on report/*.js (report/eslint.config.js), installed with the
           report's assets by scripts/bootstrap.sh
 
-Usage: lint.py ROOT [--build DIR] [--only format,tidy,js] [FILE ...]
-Given FILEs, only those are checked. Prints each finding and exits 1 when
-there is any; exits 0 when the house is clean.
+Usage: lint.py ROOT [--build DIR] [--only format,tidy,js] [--all]
+                 [--list] [--record-base] [FILE ...]
+Given FILEs, only those are checked. --list prints the sources tidy would
+check and stops. --record-base, after a clean tidy of every source of a
+committed tree (--all), writes HEAD to .ci/tidy_base. Prints each finding
+and exits 1 when there is any; exits 0 when the house is clean.
 """
 import argparse
 import concurrent.futures
+import hashlib
+import json
 import os
 import pathlib
+import re
 import subprocess
 import sys
 
@@ -29,6 +40,12 @@ SOURCE_FOLDERS = ["util", "model", "calibration", "vision", "pipelines",
 # runs.
 TIDY_FOLDERS = ["util", "model", "calibration", "vision", "pipelines",
                 "bench"]
+
+
+# The commit whose every tidied source passed, and the digest of the checks'
+# configuration they passed under (lint.py --all --record-base).
+TIDY_BASE = ".ci/tidy_base"
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
 
 
 def sources(root, folders, suffixes):
@@ -59,6 +76,102 @@ def tidy_one(root, build, path):
         capture_output=True, text=True, cwd=root)
     return [line for line in result.stdout.splitlines()
             if ": warning: " in line or ": error: " in line]
+
+
+def git_lines(root, *args):
+    result = subprocess.run(["git", "-C", str(root), *args],
+                            capture_output=True, text=True)
+    return result.stdout.splitlines() if result.returncode == 0 else None
+
+
+def tidy_base(root):
+    """(commit, configuration digest) from TIDY_BASE, or (None, None)."""
+    path = root / TIDY_BASE
+    words = path.read_text().split() if path.is_file() else []
+    return (words[0], words[1]) if len(words) >= 2 else (None, None)
+
+
+def configuration_digest(root, build):
+    """What, besides a source and its headers, decides what tidy finds in it:
+    .clang-tidy, clang-tidy's version and every distinct compile command of
+    the build (its paths made relative, its file names left out)."""
+    digest = hashlib.sha256((root / ".clang-tidy").read_bytes())
+    version = subprocess.run(["clang-tidy", "--version"],
+                             capture_output=True, text=True).stdout
+    digest.update(re.sub(r"\s+", " ", version).encode())
+    flags = set()
+    for entry in json.loads((build / "compile_commands.json").read_text()):
+        command = entry.get("command") or " ".join(entry["arguments"])
+        command = command.replace(entry["file"], "FILE")
+        command = re.sub(r" -o \S+", "", command)
+        flags.add(command.replace(str(build), "BUILD").replace(
+            str(root), "ROOT"))
+    for command in sorted(flags):
+        digest.update(command.encode() + b"\n")
+    return digest.hexdigest()[:16]
+
+
+def changed_since(root, base):
+    """Paths (relative to root) that differ from commit `base` in the working
+    tree, untracked ones included; None when git cannot say."""
+    if base is None or git_lines(root, "cat-file", "-e",
+                                 base + "^{commit}") is None:
+        return None
+    changed = git_lines(root, "diff", "--name-only", base, "--")
+    untracked = git_lines(root, "ls-files", "--others", "--exclude-standard")
+    if changed is None or untracked is None:
+        return None
+    return set(changed) | set(untracked)
+
+
+def includes_changed(root, source, changed, memo):
+    """Whether `source` (relative to root) or a project header it includes,
+    directly or through others, is in `changed`."""
+    if source in memo:
+        return memo[source]
+    memo[source] = source in changed  # a cycle's second visit adds nothing
+    path = root / source
+    if not memo[source] and path.is_file():
+        for header in INCLUDE.findall(path.read_text(errors="replace")):
+            if (root / header).is_file() and includes_changed(
+                    root, header, changed, memo):
+                memo[source] = True
+                break
+    return memo[source]
+
+
+def tidy_sources(root, build, all_sources):
+    """The sources tidy checks (see the module's doc) and why."""
+    if not (build / "compile_commands.json").is_file():
+        return all_sources, "every source (no compile_commands.json)"
+    base, base_digest = tidy_base(root)
+    changed = changed_since(root, base)
+    if changed is None:
+        return all_sources, (f"every source ({TIDY_BASE} names no commit of "
+                             "this repository)")
+    if base_digest != configuration_digest(root, build):
+        return all_sources, ("every source (.clang-tidy, clang-tidy or the "
+                             f"compile commands changed since {base[:12]})")
+    memo = {}
+    chosen = [f for f in all_sources if includes_changed(
+        root, f.relative_to(root).as_posix(), changed, memo)]
+    return chosen, (f"{len(chosen)} of {len(all_sources)} sources: those "
+                    f"changed since {base[:12]}, where every source was "
+                    "clean, or including a changed header (--all: every one)")
+
+
+def record_base(root, build):
+    if git_lines(root, "status", "--porcelain") != []:
+        return [f"{TIDY_BASE}: not recorded; commit every change first, so "
+                "the commit is what was tidied"]
+    head = git_lines(root, "rev-parse", "HEAD")[0]
+    (root / TIDY_BASE).write_text(
+        f"{head} {configuration_digest(root, build)}\n"
+        "# The commit whose every source was tidied clean, and the digest of\n"
+        "# the configuration it was tidied under (.ci/lint.py --all\n"
+        "# --record-base); CI tidies the sources changed since.\n")
+    print(f"{TIDY_BASE}: {head}")
+    return []
 
 
 def check_tidy(root, build, files):
@@ -94,6 +207,9 @@ def main():
     parser.add_argument("root", type=pathlib.Path)
     parser.add_argument("--build", type=pathlib.Path)
     parser.add_argument("--only", default="format,tidy,js")
+    parser.add_argument("--all", action="store_true")
+    parser.add_argument("--list", action="store_true")
+    parser.add_argument("--record-base", action="store_true")
     parser.add_argument("files", nargs="*", type=pathlib.Path)
     args = parser.parse_intermixed_args()
     root = args.root.resolve()
@@ -110,7 +226,20 @@ def main():
     if "format" in stages:
         problems += check_format(root, chosen({".cc", ".h"}, SOURCE_FOLDERS))
     if "tidy" in stages:
-        problems += check_tidy(root, build, chosen({".cc"}, TIDY_FOLDERS))
+        files = chosen({".cc"}, TIDY_FOLDERS)
+        if not given and not args.all:
+            files, why = tidy_sources(root, build, files)
+            print(f"tidy: {why}")
+        if args.list:
+            for f in files:
+                print(f.relative_to(root))
+            return 0
+        problems += check_tidy(root, build, files)
+        if args.record_base and not problems:
+            if given or not args.all:
+                problems.append("--record-base needs --all and no FILEs")
+            else:
+                problems += record_base(root, build)
     if "js" in stages:
         problems += check_js(root, [f for f in given if f.suffix == ".js"])
     for problem in problems:
