@@ -160,10 +160,17 @@ def tidy_sources(root, build, all_sources):
                     "clean, or including a changed header (--all: every one)")
 
 
-def record_base(root, build):
+def record_base_problems(root, args, given):
+    """Why --record-base cannot be honoured, found before tidy's long run."""
+    if given or not args.all:
+        return ["--record-base needs --all and no FILEs"]
     if git_lines(root, "status", "--porcelain") != []:
         return [f"{TIDY_BASE}: not recorded; commit every change first, so "
                 "the commit is what was tidied"]
+    return []
+
+
+def record_base(root, build):
     head = git_lines(root, "rev-parse", "HEAD")[0]
     (root / TIDY_BASE).write_text(
         f"{head} {configuration_digest(root, build)}\n"
@@ -234,12 +241,12 @@ def main():
             for f in files:
                 print(f.relative_to(root))
             return 0
-        problems += check_tidy(root, build, files)
-        if args.record_base and not problems:
-            if given or not args.all:
-                problems.append("--record-base needs --all and no FILEs")
-            else:
-                problems += record_base(root, build)
+        unrecordable = (record_base_problems(root, args, given)
+                        if args.record_base else [])
+        tidy_problems = unrecordable or check_tidy(root, build, files)
+        problems += tidy_problems
+        if args.record_base and not tidy_problems:
+            problems += record_base(root, build)
     if "js" in stages:
         problems += check_js(root, [f for f in given if f.suffix == ".js"])
     for problem in problems:
