@@ -10,8 +10,12 @@
 #include <xmmintrin.h>
 #endif
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <vector>
 
 #include "util/check.h"
 #include "vision/color_transfer.h"
@@ -71,7 +75,10 @@ LinearRegion LinearRegionAround(const cv::Mat& gray,
 // for the samples, as this runs for every frame's tag.
 struct Profile {
   static constexpr double kStep = 0.25;
-  explicit Profile(double half_length) : d(half_length) {
+  // The half-length is a whole number of steps, so that the samples reach
+  // from -d to d exactly (the integral's edge is measured from -d).
+  explicit Profile(double half_length)
+      : d(std::floor(half_length / kStep) * kStep) {
     offsets.reserve(static_cast<size_t>(2 * d / kStep) + 2);
     for (double s = -d; s <= d + 1e-9; s += kStep) {
       offsets.push_back(static_cast<float>(s));
@@ -155,6 +162,13 @@ void SampleProfile(const LinearRegion& region, const Eigen::Vector2d& start,
   }
 }
 
+// An edge found on a profile, and the profile's white level (linear light,
+// the mean of its last pixel).
+struct EdgeSample {
+  Eigen::Vector2d point;
+  double white = 0.0;
+};
+
 // Where an edge crosses the profile from p - d normal (dark) to p + d normal
 // (bright), from the profile's integral:
 //   offset = d - integral_{-d}^{d} (p(s) - black) ds / (white - black),
@@ -164,11 +178,11 @@ void SampleProfile(const LinearRegion& region, const Eigen::Vector2d& start,
 // the lens mixes light. nullopt when its ends are not clean dark and bright
 // levels.
 template <typename T>
-std::optional<Eigen::Vector2d> EdgePoint(const cv::Mat& gray,
-                                         const LinearRegion& region,
-                                         const Eigen::Vector2d& p,
-                                         const Eigen::Vector2d& normal,
-                                         Profile* profile) {
+std::optional<EdgeSample> EdgePoint(const cv::Mat& gray,
+                                    const LinearRegion& region,
+                                    const Eigen::Vector2d& p,
+                                    const Eigen::Vector2d& normal,
+                                    Profile* profile) {
   // The contrast is judged in codes (40 levels of 255), as a person sees
   // it, so dim footage is refined as before; judged first, as half the
   // data cells are black and have no edge to profile.
@@ -215,8 +229,57 @@ std::optional<Eigen::Vector2d> EdgePoint(const cv::Mat& gray,
   const double total =
       Eigen::Map<const Eigen::ArrayXd>(v.data(), end + 1).sum();
   const double integral = (total - 0.5 * (v[0] + v[end]) - end * black) * kStep;
-  return p + (d - integral / (white - black)) * normal;
+  return EdgeSample{p + (d - integral / (white - black)) * normal, white};
 }
+
+// How far a gain on the light that grows by `slope` (relative, per pixel)
+// toward an edge's bright side moves EdgePoint's edge toward it [px]. With
+// the light (1 + slope s) q(s) for the true profile q, black and white read
+// as the means of the profile's first and last pixel (centred at -+(d -
+// 1/2)) and the integral taken over [-d, d], the edge moves by
+//   slope d (d - 1) / 2
+// to first order in the slope, whatever the edge's blur: a phone's local
+// tone mapping (a few tenths of a percent per pixel between a white tag and
+// a dark table) moved the tag's every edge outward by 0.02-0.05 px.
+double EdgeShiftFromGainSlope(double slope, double d) {
+  return slope * d * (d - 1.0) / 2.0;
+}
+
+// The white levels a side's profiles read, per data cell along the side:
+// beyond the outer edge (the tag's white margin) and inside the cell when it
+// is white. Both are the same paper, so their ratio is the gain on the light
+// between them: a phone's local tone mapping lifts the dark table around
+// the tag more than the tag (issue 28), and lighting falls off across it.
+class CellWhites {
+ public:
+  void Add(bool inner, int cell, double white) {
+    if (cell < 1 || cell >= kCellsAcrossBorder - 1 || !(white > 0.0)) return;
+    (inner ? inner_ : outer_)[cell].push_back(white);
+  }
+  // The relative gain slope outward [1/px] across whites `distance_px`
+  // apart: the mean over the white cells of the log ratio of the medians,
+  // each cell's outer white taken along the same stretch of the side (the
+  // gain changes along it too). nullopt without a white cell.
+  std::optional<double> GainSlope(double distance_px) {
+    double sum = 0.0;
+    int cells = 0;
+    for (int k = 1; k < kCellsAcrossBorder - 1; ++k) {
+      if (inner_[k].empty() || outer_[k].empty()) continue;
+      sum += std::log(Median(&outer_[k]) / Median(&inner_[k]));
+      ++cells;
+    }
+    if (cells == 0) return std::nullopt;
+    return sum / cells / distance_px;
+  }
+
+ private:
+  static double Median(std::vector<double>* v) {
+    const auto middle = v->begin() + static_cast<std::ptrdiff_t>(v->size() / 2);
+    std::nth_element(v->begin(), middle, v->end());
+    return *middle;
+  }
+  std::array<std::vector<double>, kCellsAcrossBorder> outer_, inner_;
+};
 
 // One side of the black border, from corner a to corner b.
 struct BorderSide {
@@ -264,12 +327,16 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   // Room for every profile up front (this runs for every frame).
   std::vector<cv::Point2f> points;
   points.reserve(static_cast<size_t>(0.6 * length / spacing) + 2);
+  // The white beyond the outer edge and inside the white data cells, per
+  // cell along the side (CellWhites::GainSlope).
+  CellWhites whites;
   for (double t = 0.2 * length; t <= 0.8 * length; t += spacing) {
     ++side.sampled;
     if (const auto edge =
             EdgePoint<T>(gray, region, a + t * along, side.normal, &profile)) {
-      points.emplace_back(static_cast<float>(edge->x()),
-                          static_cast<float>(edge->y()));
+      points.emplace_back(static_cast<float>(edge->point.x()),
+                          static_cast<float>(edge->point.y()));
+      whites.Add(false, static_cast<int>(t / cell), edge->white);
     }
   }
   side.clean = static_cast<int>(points.size());
@@ -300,11 +367,23 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
       const Eigen::Vector2d p = a + t * along - cell * side.normal;
       const auto edge = EdgePoint<T>(gray, region, p, -side.normal, &profile);
       if (!edge) continue;
-      const double width = (origin - *edge).dot(side.normal);
-      if (std::abs(width - cell) < 0.25 * cell) widths.emplace_back(t, width);
+      const double width = (origin - edge->point).dot(side.normal);
+      if (std::abs(width - cell) < 0.25 * cell) {
+        widths.emplace_back(t, width);
+        whites.Add(true, k, edge->white);
+      }
     }
   }
   if (widths.size() < 4) return side;
+  // A gain on the light that changes across the border moves both of its
+  // edges the same way, which the midline does not undo: shift the outer
+  // edge back by it (the width, measured between the two, keeps).
+  // The whites' centres lie cell + 2 (d - 1/2) apart across the border.
+  if (const auto slope = whites.GainSlope(cell + 2.0 * profile.d - 1.0)) {
+    const double shift = EdgeShiftFromGainSlope(*slope, profile.d);
+    side.outer[2] -= static_cast<float>(shift * side.normal.x());
+    side.outer[3] -= static_cast<float>(shift * side.normal.y());
+  }
   // A straight line through (t, width): perspective changes the cell's
   // width along the side by up to a few tenths of a percent per degree.
   double st = 0, sw = 0;
