@@ -12,12 +12,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstddef>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <vector>
 
 #include "util/check.h"
+#include "util/statistics.h"
 #include "vision/color_transfer.h"
 #include "vision/frame_source.h"
 #include "vision/luma.h"
@@ -252,20 +252,23 @@ double EdgeShiftFromGainSlope(double slope, double d) {
 // the tag more than the tag (issue 28), and lighting falls off across it.
 class CellWhites {
  public:
-  void Add(bool inner, int cell, double white) {
-    if (cell < 1 || cell >= kCellsAcrossBorder - 1 || !(white > 0.0)) return;
-    (inner ? inner_ : outer_)[cell].push_back(white);
+  // Empties every cell, keeping the room (a tag is fitted in every frame).
+  void Clear() {
+    for (std::vector<double>& cell : outer_) cell.clear();
+    for (std::vector<double>& cell : inner_) cell.clear();
   }
+  void AddOuter(int cell, double white) { Add(&outer_, cell, white); }
+  void AddInner(int cell, double white) { Add(&inner_, cell, white); }
   // The relative gain slope outward [1/px] across whites `distance_px`
   // apart: the mean over the white cells of the log ratio of the medians,
   // each cell's outer white taken along the same stretch of the side (the
   // gain changes along it too). nullopt without a white cell.
-  std::optional<double> GainSlope(double distance_px) {
+  std::optional<double> GainSlope(double distance_px) const {
     double sum = 0.0;
     int cells = 0;
     for (int k = 1; k < kCellsAcrossBorder - 1; ++k) {
       if (inner_[k].empty() || outer_[k].empty()) continue;
-      sum += std::log(Median(&outer_[k]) / Median(&inner_[k]));
+      sum += std::log(Median(outer_[k]) / Median(inner_[k]));
       ++cells;
     }
     if (cells == 0) return std::nullopt;
@@ -273,12 +276,12 @@ class CellWhites {
   }
 
  private:
-  static double Median(std::vector<double>* v) {
-    const auto middle = v->begin() + static_cast<std::ptrdiff_t>(v->size() / 2);
-    std::nth_element(v->begin(), middle, v->end());
-    return *middle;
+  using Cells = std::array<std::vector<double>, kCellsAcrossBorder>;
+  static void Add(Cells* cells, int cell, double white) {
+    if (cell < 1 || cell >= kCellsAcrossBorder - 1 || !(white > 0.0)) return;
+    (*cells)[cell].push_back(white);
   }
-  std::array<std::vector<double>, kCellsAcrossBorder> outer_, inner_;
+  Cells outer_, inner_;
 };
 
 // One side of the black border, from corner a to corner b.
@@ -328,15 +331,16 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   std::vector<cv::Point2f> points;
   points.reserve(static_cast<size_t>(0.6 * length / spacing) + 2);
   // The white beyond the outer edge and inside the white data cells, per
-  // cell along the side (CellWhites::GainSlope).
-  CellWhites whites;
+  // cell along the side (CellWhites::GainSlope); one per thread, reused.
+  thread_local CellWhites whites;
+  whites.Clear();
   for (double t = 0.2 * length; t <= 0.8 * length; t += spacing) {
     ++side.sampled;
     if (const auto edge =
             EdgePoint<T>(gray, region, a + t * along, side.normal, &profile)) {
       points.emplace_back(static_cast<float>(edge->point.x()),
                           static_cast<float>(edge->point.y()));
-      whites.Add(false, static_cast<int>(t / cell), edge->white);
+      whites.AddOuter(static_cast<int>(t / cell), edge->white);
     }
   }
   side.clean = static_cast<int>(points.size());
@@ -370,7 +374,7 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
       const double width = (origin - edge->point).dot(side.normal);
       if (std::abs(width - cell) < 0.25 * cell) {
         widths.emplace_back(t, width);
-        whites.Add(true, k, edge->white);
+        whites.AddInner(k, edge->white);
       }
     }
   }
