@@ -11,14 +11,8 @@
 # Needs the FFmpeg program (scripts/bootstrap.sh --bench). Prints each
 # test's error and the worst; docs/measurement.md quotes them.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-root=$PWD
-softbench=$PWD/build/release/softbench
-[[ -x $softbench ]] || { echo "build first: cmake --build --preset release" >&2; exit 2; }
 command -v ffmpeg >/dev/null || { echo "needs ffmpeg: scripts/bootstrap.sh --bench" >&2; exit 2; }
-[[ $# -eq 1 ]] || { echo "usage: $0 OUT_DIR" >&2; exit 2; }
-mkdir -p "$1"
-cd "$1"
+source "$(dirname "$0")/footage_setup.sh" "$@"
 
 cp "$root/scripts/delta_four_points.plan.yaml" plan.yaml
 "$softbench" render --plan plan.yaml --out still_sdr.mp4 --truth truth.csv \

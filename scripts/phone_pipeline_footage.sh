@@ -12,13 +12,7 @@
 # worst errors.
 #   scripts/phone_pipeline_footage.sh OUT_DIR
 set -euo pipefail
-cd "$(dirname "$0")/.."
-root=$PWD
-softbench=$root/build/release/softbench
-[[ -x $softbench ]] || { echo "build first: cmake --build --preset release" >&2; exit 2; }
-[[ $# -eq 1 ]] || { echo "usage: $0 OUT_DIR" >&2; exit 2; }
-mkdir -p "$1"
-cd "$1"
+source "$(dirname "$0")/footage_setup.sh" "$@"
 
 cp "$root/scripts/delta_four_points.plan.yaml" plan.yaml
 

@@ -245,6 +245,21 @@ double EdgeShiftFromGainSlope(double slope, double d) {
   return slope * d * (d - 1.0) / 2.0;
 }
 
+// A profile's halo (TagEdgeSigns::halo): its larger excursion beyond its
+// ends, above the white (its last pixel's mean) or below the black (its
+// first's), over the step between them. The larger, as either may be cut:
+// a phone's white paper sits near its tone curve's shoulder or at the top
+// code, and black light cannot go far below zero. (Scaling the profile
+// scales both, so the sum of profiles serves as their mean.)
+double HaloOf(const Eigen::ArrayXd& profile) {
+  const int flat = static_cast<int>(1.0 / Profile::kStep);  // 1 px
+  const double black = profile.head(flat + 1).mean();
+  const double white = profile.tail(flat + 1).mean();
+  if (!(white > black)) return 0.0;
+  return std::max(profile.maxCoeff() - white, black - profile.minCoeff()) /
+         (white - black);
+}
+
 // The white levels a side's profiles read, per data cell along the side:
 // beyond the outer edge (the tag's white margin) and inside the cell when it
 // is white. Both are the same paper, so their ratio is the gain on the light
@@ -259,11 +274,11 @@ class CellWhites {
   }
   void AddOuter(int cell, double white) { Add(&outer_, cell, white); }
   void AddInner(int cell, double white) { Add(&inner_, cell, white); }
-  // The relative gain slope outward [1/px] across whites `distance_px`
-  // apart: the mean over the white cells of the log ratio of the medians,
-  // each cell's outer white taken along the same stretch of the side (the
-  // gain changes along it too). nullopt without a white cell.
-  std::optional<double> GainSlope(double distance_px) const {
+  // The log of the gain from the whites inside to those beyond: the mean
+  // over the white cells of the log ratio of the medians, each cell's outer
+  // white taken along the same stretch of the side (the gain changes along
+  // it too). nullopt without a white cell.
+  std::optional<double> LogRatio() const {
     double sum = 0.0;
     int cells = 0;
     for (int k = 1; k < kCellsAcrossBorder - 1; ++k) {
@@ -272,7 +287,7 @@ class CellWhites {
       ++cells;
     }
     if (cells == 0) return std::nullopt;
-    return sum / cells / distance_px;
+    return sum / cells;
   }
 
  private:
@@ -295,7 +310,33 @@ struct BorderSide {
   bool has_width = false;
   int sampled = 0, clean = 0;  // outer-edge profiles taken and used
   double rms_px = 0.0;         // their points' RMS distance from `outer`
+  double halo = 0.0;           // the outer profiles' mean's (HaloOf)
+  // log(white beyond / white inside): CellWhites::LogRatio.
+  std::optional<double> white_log_ratio;
 };
+
+// The border's width along a side as a straight line through the (t,
+// width) points of its white cells, into `side`: perspective changes the
+// cell's width along the side by up to a few tenths of a percent per
+// degree. `widths` must not be empty.
+void FitWidthLine(const std::vector<Eigen::Vector2d>& widths, double cell,
+                  BorderSide* side) {
+  double st = 0, sw = 0;
+  for (const Eigen::Vector2d& w : widths) st += w.x(), sw += w.y();
+  const double n = static_cast<double>(widths.size());
+  const double t_mean = st / n, w_mean = sw / n;
+  double stt = 0, stw = 0;
+  for (const Eigen::Vector2d& w : widths) {
+    stt += (w.x() - t_mean) * (w.x() - t_mean);
+    stw += (w.x() - t_mean) * (w.y() - w_mean);
+  }
+  // Only white cells spread along the side (by more than a cell, RMS) say
+  // how the width changes.
+  const bool spread = std::sqrt(stt / n) > cell;
+  side->width_slope = spread ? stw / stt : 0.0;
+  side->width_at_a = w_mean - side->width_slope * t_mean;
+  side->has_width = true;
+}
 
 // The side's outer edge (black inside, white outside) along its middle
 // 60 %, and, inside each data cell that is white, its inner edge: the
@@ -331,9 +372,13 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   std::vector<cv::Point2f> points;
   points.reserve(static_cast<size_t>(0.6 * length / spacing) + 2);
   // The white beyond the outer edge and inside the white data cells, per
-  // cell along the side (CellWhites::GainSlope); one per thread, reused.
+  // cell along the side (CellWhites::LogRatio); one per thread, reused.
   thread_local CellWhites whites;
   whites.Clear();
+  // The outer profiles' sum, sample by sample: their mean shows a halo
+  // with the noise of one profile divided by ~9 (TagEdgeSigns::halo).
+  thread_local Eigen::ArrayXd profile_sum;
+  profile_sum.setZero(static_cast<Eigen::Index>(profile.values.size()));
   for (double t = 0.2 * length; t <= 0.8 * length; t += spacing) {
     ++side.sampled;
     if (const auto edge =
@@ -341,10 +386,13 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
       points.emplace_back(static_cast<float>(edge->point.x()),
                           static_cast<float>(edge->point.y()));
       whites.AddOuter(static_cast<int>(t / cell), edge->white);
+      profile_sum += Eigen::Map<const Eigen::ArrayXd>(profile.values.data(),
+                                                      profile_sum.size());
     }
   }
   side.clean = static_cast<int>(points.size());
   if (points.size() < 8) return std::nullopt;
+  side.halo = HaloOf(profile_sum);
   cv::fitLine(points, side.outer, cv::DIST_L2, 0, 1e-6, 1e-6);
   const Eigen::Vector2d origin(side.outer[2], side.outer[3]);
   // From here on the fitted edge's own normal: the corners the side was
@@ -383,28 +431,14 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   // edges the same way, which the midline does not undo: shift the outer
   // edge back by it (the width, measured between the two, keeps).
   // The whites' centres lie cell + 2 (d - 1/2) apart across the border.
-  if (const auto slope = whites.GainSlope(cell + 2.0 * profile.d - 1.0)) {
-    const double shift = EdgeShiftFromGainSlope(*slope, profile.d);
+  if (const auto log_ratio = whites.LogRatio()) {
+    side.white_log_ratio = *log_ratio;
+    const double slope = *log_ratio / (cell + 2.0 * profile.d - 1.0);
+    const double shift = EdgeShiftFromGainSlope(slope, profile.d);
     side.outer[2] -= static_cast<float>(shift * side.normal.x());
     side.outer[3] -= static_cast<float>(shift * side.normal.y());
   }
-  // A straight line through (t, width): perspective changes the cell's
-  // width along the side by up to a few tenths of a percent per degree.
-  double st = 0, sw = 0;
-  for (const Eigen::Vector2d& w : widths) st += w.x(), sw += w.y();
-  const double n = static_cast<double>(widths.size());
-  const double t_mean = st / n, w_mean = sw / n;
-  double stt = 0, stw = 0;
-  for (const Eigen::Vector2d& w : widths) {
-    stt += (w.x() - t_mean) * (w.x() - t_mean);
-    stw += (w.x() - t_mean) * (w.y() - w_mean);
-  }
-  // Only white cells spread along the side (by more than a cell, RMS) say
-  // how the width changes.
-  const bool spread = std::sqrt(stt / n) > cell;
-  side.width_slope = spread ? stw / stt : 0.0;
-  side.width_at_a = w_mean - side.width_slope * t_mean;
-  side.has_width = true;
+  FitWidthLine(widths, cell, &side);
   return side;
 }
 
@@ -524,6 +558,37 @@ std::array<Eigen::Vector2d, 4> CornersOf(
   return corners;
 }
 
+// What the border fitted from `approximate` (its `sides`, and the `corners`
+// CornersOf made of them) shows of the camera's processing; nullopt
+// without a side's width.
+std::optional<TagEdgeSigns> SignsOf(
+    const std::array<BorderSide, 4>& sides,
+    const std::array<Eigen::Vector2d, 4>& approximate,
+    const std::array<Eigen::Vector2d, 4>& corners) {
+  TagEdgeSigns signs;
+  double shift_sum = 0.0, log_ratio_sum = 0.0;
+  int widths = 0, ratios = 0;
+  for (int c = 0; c < 4; ++c) {
+    const BorderSide& side = sides[c];
+    signs.halo += 0.25 * side.halo;
+    if (side.white_log_ratio) log_ratio_sum += *side.white_log_ratio, ++ratios;
+    if (!side.has_width) continue;
+    // The width at the side's middle against the cell there (the final
+    // corners' side over its 8 cells: perspective changes a cell along a
+    // side by a few tenths of a percent, far under a sign worth naming).
+    const double length = (approximate[(c + 1) % 4] - approximate[c]).norm();
+    const double width = side.width_at_a + side.width_slope * length / 2.0;
+    const double cell =
+        (corners[(c + 1) % 4] - corners[c]).norm() / kCellsAcrossBorder;
+    shift_sum += (width - cell) / 2.0;
+    ++widths;
+  }
+  if (widths == 0) return std::nullopt;
+  signs.edge_shift_px = shift_sum / widths;
+  if (ratios > 0) signs.white_ratio = std::exp(log_ratio_sum / ratios) - 1.0;
+  return signs;
+}
+
 // The four sides fitted from corners known to a few pixels; nullopt when a
 // side's outer edge had too few clean points.
 std::optional<std::array<BorderSide, 4>> FitBorder(
@@ -612,6 +677,7 @@ std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) const {
       const std::array<Eigen::Vector2d, 4> corners =
           CornersOf(*sides, tag.corners);
       const double moved = LargestCornerMove(corners, tag.corners);
+      tag.signs = SignsOf(*sides, tag.corners, corners);
       tag.corners = corners;
       tag.refined = true;
       if (moved < 0.01) break;

@@ -33,6 +33,28 @@ struct TagDetectorOptions {
   std::optional<std::string> Problem() const;
 };
 
+// What a tag's border shows of how the camera processed its image (issue
+// 28), from the border's edge profiles in linear light. Each is near zero
+// for light that the codes encode as the video's metadata says, blurred by
+// the lens before it was recorded; the measurement does not depend on any
+// of them (the border's midlines, CellWhites' gain correction, the dots'
+// model fit), so they are reported, not corrected for again.
+struct TagEdgeSigns {
+  // How far each edge of the one-cell black border sits toward its bright
+  // side [px]: half the border's measured width less the cell's width. A
+  // tone curve the metadata does not name, or blur or sharpening applied
+  // to the codes after the curve, moves it (0.1-0.5 px under a phone's).
+  double edge_shift_px = 0.0;
+  // Sharpening's halos: the larger of the overshoot above the white end and
+  // the undershoot below the black end of the outer edges' mean profile, as
+  // a fraction of the step, averaged over the four sides.
+  double halo = 0.0;
+  // The white paper beyond the border against the white data cells inside
+  // it, relative, less one: a phone's local tone mapping (which lifts the
+  // dark table around the tag) or light falling off across the tag.
+  double white_ratio = 0.0;
+};
+
 struct TagDetection {
   int id = 0;
   int hamming = 0;  // corrected bit errors
@@ -45,6 +67,9 @@ struct TagDetection {
   // False when an edge was too short or too faint to refine: `corners` are
   // then libapriltag's.
   bool refined = false;
+  // From the last fit of the border; nullopt when it was not refined or no
+  // white data cell showed the border's inner edge.
+  std::optional<TagEdgeSigns> signs;
 };
 
 // tag36h11 detection: libapriltag finds tags and decodes ids at full

@@ -45,6 +45,10 @@ int RunTrack(const TrackCommandOptions& options, std::ostream& out) {
       m.frames.size(), options.video_path, m.scale_source, m.mm_per_px,
       m.missing_dots, m.full_frame_frames, m.rejected_blobs,
       options.output_path);
+  if (m.camera_processing.measured) {
+    out << "camera's processing, seen on the tag's border: "
+        << m.camera_processing.Summary() << "\n";
+  }
   if (m.distortion.performed) {
     if (m.distortion.warn) {
       spdlog::warn("{}", m.distortion.message);

@@ -81,6 +81,16 @@ std::string SummaryText(const VideoValidation& v) {
     text += fmt::format("  skipped on the bench (as the plan says): {}\n",
                         fmt::join(ids, ", "));
   }
+  const CameraProcessing& processing = v.measurement.camera_processing;
+  if (!processing.effects.empty()) {
+    std::vector<std::string> names;
+    for (const ProcessingEffect& e : processing.effects)
+      names.push_back(e.name);
+    text += fmt::format(
+        "  the camera's processing, seen on the tag's border: {} (the "
+        "report's Calibration says why none of it moves the measurement)\n",
+        fmt::join(names, "; "));
+  }
   for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
     if (r.model_errors[h].tests == 0) {
       text += fmt::format("  {}: no test scored, so no model error\n",

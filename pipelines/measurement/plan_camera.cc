@@ -16,10 +16,12 @@ namespace softbench {
 namespace {
 
 // The tag's corners over the first frames, combined by a per-coordinate
-// median (robust to one bad detection); throws when the plan's tag is absent.
-std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
-                                                   VideoReader* reader_ptr,
-                                                   int tag_frames) {
+// median (robust to one bad detection), and each frame's signs of the
+// camera's processing into `signs` (if given); throws when the plan's tag
+// is absent.
+std::array<Eigen::Vector2d, 4> TagCornersFromVideo(
+    const TestPlan& plan, VideoReader* reader_ptr, int tag_frames,
+    std::vector<TagEdgeSigns>* signs) {
   const TagSpec& tag = *plan.calibration.tag;
   VideoReader& reader = *reader_ptr;
   const std::string& path = reader.path();
@@ -32,7 +34,10 @@ std::array<Eigen::Vector2d, 4> TagCornersFromVideo(const TestPlan& plan,
   while (frames < tag_frames && reader.Read(&frame)) {
     ++frames;
     if (frame.damaged) ++damaged;
-    if (auto d = finder.Find(frame.luma)) found.push_back(d->corners);
+    if (auto d = finder.Find(frame.luma)) {
+      found.push_back(d->corners);
+      if (signs != nullptr && d->signs) signs->push_back(*d->signs);
+    }
   }
   if (found.empty()) {
     std::string seen = "no tag36h11 tag";
@@ -99,13 +104,14 @@ CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
 PlaneMapping PlanMapping(
     const TestPlan& plan, VideoReader* reader,
     const CameraIntrinsics& intrinsics, int tag_frames, std::string* source,
-    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners) {
+    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners,
+    std::vector<TagEdgeSigns>* tag_signs) {
   const std::string& video_path = reader->path();
   const CalibrationSpec& c = plan.calibration;
   if (c.tag) {
     *source = fmt::format("tag {}", c.tag->id);
     const std::array<Eigen::Vector2d, 4> corners =
-        TagCornersFromVideo(plan, reader, tag_frames);
+        TagCornersFromVideo(plan, reader, tag_frames, tag_signs);
     if (tag_corners != nullptr) *tag_corners = corners;
     PlaneMapping mapping = PlaneMapping::FromTag(
         intrinsics, corners, c.tag->size_mm, c.plane_offset_mm);

@@ -12,6 +12,7 @@
 #include "vision/camera.h"
 #include "vision/head_tracker.h"
 #include "vision/plane_mapping.h"
+#include "vision/tag_detector.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -26,11 +27,14 @@ CameraIntrinsics PlanIntrinsics(const TestPlan& plan, int width_px,
 // mm_per_px or the first head's dots. Reads on from the reader's position
 // (the video's start). `source` receives a name for it ("tag 0",
 // "mm_per_px"); `tag_corners` (optional) the tag's corners the mapping was
-// made from. Throws InputError when the plan's scale is not in the video.
+// made from, `tag_signs` (optional) what the tag's border showed of the
+// camera's processing in each frame that gave it. Throws InputError when
+// the plan's scale is not in the video.
 PlaneMapping PlanMapping(
     const TestPlan& plan, VideoReader* reader,
     const CameraIntrinsics& intrinsics, int tag_frames, std::string* source,
-    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners = nullptr);
+    std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners = nullptr,
+    std::vector<TagEdgeSigns>* tag_signs = nullptr);
 
 // How the plan's mapping depends on the intrinsics' standard errors
 // (CameraIntrinsics::intrinsics_std_px, distortion_std): the mapping made

@@ -26,6 +26,9 @@ std::optional<std::string> VideoMeasurementOptions::Problem() const {
   if (auto problem = registration.Problem()) return problem;
   if (auto problem = camera_path.Problem()) return problem;
   if (auto problem = plate_pose.Problem()) return "plate_pose: " + *problem;
+  if (auto problem = camera_processing.Problem()) {
+    return "camera_processing: " + *problem;
+  }
   if (window_frames) {
     if (auto problem = window_frames->Problem()) {
       return "window_frames: " + *problem;
@@ -411,9 +414,15 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
       PlanIntrinsics(plan, info.width_px, info.height_px);
   VideoMeasurement m = StartMeasurement(*reader);
   std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
+  std::vector<TagEdgeSigns> tag_signs;
   const PlaneMapping mapping =
       PlanMapping(plan, reader, intrinsics, options.tag_frames, &m.scale_source,
-                  &tag_corners);
+                  &tag_corners, &tag_signs);
+  m.camera_processing =
+      DescribeCameraProcessing(tag_signs, options.camera_processing);
+  if (!plan.calibration.tag) {
+    m.camera_processing.why_not = "the plan has no tag to read it from";
+  }
   m.mm_per_px = mapping.MmPerPixelAt(
       Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
   m.mapping = mapping;

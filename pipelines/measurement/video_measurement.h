@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pipelines/formats/test_plan.h"
+#include "pipelines/measurement/camera_processing.h"
 #include "pipelines/measurement/frame_sample.h"
 #include "pipelines/measurement/plan_camera.h"
 #include "pipelines/measurement/window_frames.h"
@@ -48,6 +49,8 @@ struct VideoMeasurementOptions {
   // gain 0.01 mm of noise (docs/measurement.md, "Out of the plane").
   bool correct_lift = false;
   PlatePoseOptions plate_pose;
+  // When the tag's border names an effect of the camera's processing.
+  CameraProcessingOptions camera_processing;
   // Only the frames in these spans are measured, seeking from one to the
   // next (validate --windows-only); empty: every frame.
   std::vector<TimeSpan> spans;
@@ -116,6 +119,8 @@ struct VideoMeasurement {
   int damaged_frames = 0;
   std::vector<double> lost_frame_times_s;  // the never-decoded ones, sorted
   DistortionCheck distortion;
+  // What the tag's border showed of the camera's processing (issue 28).
+  CameraProcessing camera_processing;
 };
 
 // Measures every frame of a video of the plan's mechanism (thesis 4.1.3,

@@ -196,6 +196,23 @@ json BudgetJson(const UncertaintyBudget& budget) {
           {"terms", terms}};
 }
 
+// What the tag's border showed of the camera's processing: the signs (each
+// the median over the tag's frames, with its unit) and the effects named.
+json CameraProcessingJson(const CameraProcessing& p) {
+  if (!p.measured) return {{"measured", false}, {"why_not", p.why_not}};
+  json effects = json::array();
+  for (const ProcessingEffect& e : p.effects) {
+    effects.push_back(
+        {{"effect", e.name}, {"seen", e.seen}, {"handling", e.handling}});
+  }
+  return {{"measured", true},
+          {"frames", p.frames},
+          {"edge_shift_px", JsonNumber(p.signs.edge_shift_px)},
+          {"halo_percent", JsonNumber(100.0 * p.signs.halo)},
+          {"white_ratio_percent", JsonNumber(100.0 * p.signs.white_ratio)},
+          {"effects", effects}};
+}
+
 // One test's windows and, where measured, its heads' uncertainty budgets.
 json TestJson(const TestPlan& plan, const TestScore& t) {
   json test = {{"id", t.id},
@@ -272,6 +289,7 @@ json SummaryJson(const VideoValidation& v) {
       {"tilt_deg", m.mapping->TiltRad() * 180.0 / std::numbers::pi},
       {"distortion_check", m.distortion.message},
       {"distortion_warning", m.distortion.warn}};
+  root["camera_processing"] = CameraProcessingJson(m.camera_processing);
   root["registration"] = {{"method", m.registration},
                           {"unregistered_frames", m.unregistered_frames},
                           {"first_reason", m.unregistered_reason},

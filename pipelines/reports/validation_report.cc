@@ -310,6 +310,8 @@ void AddCalibration(const TestPlan& plan, const VideoMeasurement& m,
                     : "intrinsics " + plan.calibration.intrinsics_path},
        {"mm per pixel at the image centre", fmt::format("{:.5f}", m.mm_per_px)},
        {"distortion check", m.distortion.message},
+       {"camera's processing, seen on the tag's border",
+        m.camera_processing.Summary()},
        {"registration to the bench", m.registration},
        {"frames not registered",
         m.unregistered_frames == 0
@@ -320,6 +322,17 @@ void AddCalibration(const TestPlan& plan, const VideoMeasurement& m,
        {"dot-frames missing", std::to_string(m.missing_dots)},
        {"frames searched in full", std::to_string(m.full_frame_frames)},
        {"same-colour blobs rejected", std::to_string(m.rejected_blobs)}});
+  const std::vector<ProcessingEffect>& effects = m.camera_processing.effects;
+  if (effects.empty()) return;
+  // Each effect named, with why it does not move the figures below.
+  std::vector<std::vector<std::string>> rows;
+  for (const ProcessingEffect& e : effects) {
+    rows.push_back({e.name, e.seen, e.handling});
+  }
+  report->AddParagraph(
+      "The camera processed its images; the tag's border shows it:");
+  report->AddTable({"effect", "seen", "what the measurement does about it"},
+                   rows);
 }
 
 // What the report was made from: softbench's version and every input file

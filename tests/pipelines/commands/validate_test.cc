@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -428,6 +429,13 @@ tests:
   - {id: c, pressures: [0, 0, 6]}
 )";
 
+// What ValidateCommandTest::CheckPhoneFormat measured beside the
+// displacements.
+struct PhoneCheck {
+  double layout_ratio = 1.0;         // DistortionCheck::median_ratio
+  std::vector<std::string> effects;  // CameraProcessing's, by name
+};
+
 class ValidateCommandTest : public ScratchDirectoryTest {
  protected:
   // The options that render `plan_yaml` as a quick 720p clip (clip.mp4,
@@ -437,8 +445,9 @@ class ValidateCommandTest : public ScratchDirectoryTest {
   }
   // `compare_tag_stride`: also check that locating the tag on one frame in
   // four (tag_stride) agrees with locating it in every frame to 0.0002 mm.
-  double CheckPhoneFormat(const std::function<void(RenderCommandOptions*)>& set,
-                          bool compare_tag_stride = false);
+  PhoneCheck CheckPhoneFormat(
+      const std::function<void(RenderCommandOptions*)>& set,
+      bool compare_tag_stride = false);
   // A phone's own processing, stage by stage, for CheckPhonePipeline.
   struct PhonePipeline {
     double lens_blur_px = 0.0;
@@ -448,7 +457,7 @@ class ValidateCommandTest : public ScratchDirectoryTest {
     double temporal_denoise = 0.0;
   };
   // CheckPhoneFormat at 1080p through `phone`.
-  double CheckPhonePipeline(const PhonePipeline& phone);
+  PhoneCheck CheckPhonePipeline(const PhonePipeline& phone);
   ValidateCommandOptions CheckClockOffset(const std::string& sample,
                                           const std::string& log, int windows);
   // Validate's options for the delta sample's video against `plan` (YAML
@@ -620,7 +629,7 @@ TEST_F(ValidateCommandTest, FlagsOnlyTheTestWithASlipAndWritesTheReport) {
 // the truth and hysteresis on the test that slips and no other. Returns the
 // dots' spacing through the tag's scale over the plan's layout (the
 // distortion check's median ratio).
-double ValidateCommandTest::CheckPhoneFormat(
+PhoneCheck ValidateCommandTest::CheckPhoneFormat(
     const std::function<void(RenderCommandOptions*)>& set,
     bool compare_tag_stride) {
   RenderCommandOptions render = QuickRender(R"(mechanism: delta
@@ -675,19 +684,35 @@ tests:
     EXPECT_LT(TagLocatedShare(m), 0.5);
     EXPECT_LT(difference, 2e-4);
   }
-  return m.distortion.median_ratio;
+  PhoneCheck check;
+  check.layout_ratio = m.distortion.median_ratio;
+  EXPECT_TRUE(m.camera_processing.measured) << m.camera_processing.why_not;
+  for (const ProcessingEffect& e : m.camera_processing.effects) {
+    check.effects.push_back(e.name);
+  }
+  std::cout << "camera's processing: " << m.camera_processing.Summary() << "\n";
+  return check;
+}
+
+// Whether `check` named the effect whose name starts with `prefix`.
+bool Named(const PhoneCheck& check, const std::string& prefix) {
+  return std::any_of(
+      check.effects.begin(), check.effects.end(),
+      [&](const std::string& name) { return name.starts_with(prefix); });
 }
 
 // An iPhone's default: HEVC Main 10 with HLG and BT.2020.
 // Its tag is located on one frame in four and agrees with every frame's.
+// Its images are the light its transfer names: no processing is named.
 TEST_F(ValidateCommandTest, HlgTenBitHevcMeetsTheBar) {
-  CheckPhoneFormat(
+  const PhoneCheck check = CheckPhoneFormat(
       [](RenderCommandOptions* r) {
         r->codec = "hevc";
         r->bit_depth = 10;
         r->hdr = "hlg";
       },
       true);
+  EXPECT_TRUE(check.effects.empty()) << check.effects.front();
 }
 
 // PQ in 12 bits, 4:4:4 and full range.
@@ -717,19 +742,22 @@ TEST_F(ValidateCommandTest, PortraitRotatedVideoMeetsTheBar) {
 // tag's scale is the plan's to 0.05 %. (720p's 11 px cells still leave
 // 0.1-0.5 % of scale under strong sharpening: issue 28 stays open on it.)
 TEST_F(ValidateCommandTest, PhoneToneCurveMeetsTheBar) {
-  const double ratio = CheckPhoneFormat([](RenderCommandOptions* r) {
+  const PhoneCheck check = CheckPhoneFormat([](RenderCommandOptions* r) {
     r->resolution = "1080p";
     r->processing.tone_curve = 0.6;
   });
-  EXPECT_NEAR(ratio, 1.0, 5e-4);
+  EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
 }
 
+// The report names the sharpening (CameraProcessing).
 TEST_F(ValidateCommandTest, PhoneSharpeningMeetsTheBar) {
-  const double ratio = CheckPhoneFormat([](RenderCommandOptions* r) {
+  const PhoneCheck check = CheckPhoneFormat([](RenderCommandOptions* r) {
     r->resolution = "1080p";
     r->processing.sharpen = "1.5,1.0";
   });
-  EXPECT_NEAR(ratio, 1.0, 5e-4);
+  EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
+  EXPECT_TRUE(Named(check, "sharpening halos"));
+  EXPECT_TRUE(Named(check, "a tone curve or filtering"));
 }
 
 // The lens's blur in light, then the phone's S-curve and its sharpening on
@@ -737,7 +765,7 @@ TEST_F(ValidateCommandTest, PhoneSharpeningMeetsTheBar) {
 // Without the lens's blur (no camera is that sharp) the curve and the
 // sharpening together cost the dots' windowed centroids 0.0068 mm: the halo
 // of a pixel-sharp edge is where the window cuts it (docs/measurement.md).
-double ValidateCommandTest::CheckPhonePipeline(const PhonePipeline& phone) {
+PhoneCheck ValidateCommandTest::CheckPhonePipeline(const PhonePipeline& phone) {
   return CheckPhoneFormat([&](RenderCommandOptions* r) {
     r->resolution = "1080p";
     r->processing.lens_blur_px = phone.lens_blur_px;
@@ -753,30 +781,35 @@ double ValidateCommandTest::CheckPhonePipeline(const PhonePipeline& phone) {
 // frame blended with the last where little moves).
 TEST_F(ValidateCommandTest,
        PhoneBlurCurveSharpeningAndNoiseReductionMeetTheBar) {
-  EXPECT_NEAR(CheckPhonePipeline({.lens_blur_px = 0.6,
-                                  .tone_curve = 0.6,
-                                  .sharpen = "1.5,1.0",
-                                  .bayer = "",
-                                  .temporal_denoise = 0.5}),
-              1.0, 5e-4);
+  const PhoneCheck check = CheckPhonePipeline({.lens_blur_px = 0.6,
+                                               .tone_curve = 0.6,
+                                               .sharpen = "1.5,1.0",
+                                               .bayer = "",
+                                               .temporal_denoise = 0.5});
+  EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
+  EXPECT_TRUE(Named(check, "sharpening halos"));
 }
 
 // The stronger one through an RGGB Bayer sensor with raw shot and read
 // noise and bilinear demosaicing (its zipper at every edge depends on where
 // the edge falls on the colour filter).
 TEST_F(ValidateCommandTest, PhoneBayerBlurCurveAndSharpeningMeetTheBar) {
-  EXPECT_NEAR(CheckPhonePipeline({.lens_blur_px = 1.0,
-                                  .tone_curve = 1.0,
-                                  .sharpen = "1.0,1.5",
-                                  .bayer = "bilinear",
-                                  .temporal_denoise = 0.0}),
-              1.0, 5e-4);
+  const PhoneCheck check = CheckPhonePipeline({.lens_blur_px = 1.0,
+                                               .tone_curve = 1.0,
+                                               .sharpen = "1.0,1.5",
+                                               .bayer = "bilinear",
+                                               .temporal_denoise = 0.0});
+  EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
+  EXPECT_TRUE(Named(check, "sharpening halos"));
+  EXPECT_TRUE(Named(check, "a tone curve or filtering"));
 }
 
 // A variable frame rate: frame times jitter by up to 0.4 of a frame. Its
 // tag is located on one frame in four and agrees with every frame's.
 TEST_F(ValidateCommandTest, VariableFrameRateMeetsTheBar) {
-  CheckPhoneFormat([](RenderCommandOptions* r) { r->vfr_jitter = 0.8; }, true);
+  const PhoneCheck check = CheckPhoneFormat(
+      [](RenderCommandOptions* r) { r->vfr_jitter = 0.8; }, true);
+  EXPECT_TRUE(check.effects.empty()) << check.effects.front();
 }
 
 // A tag taken away after the first second on a plain table (nothing else

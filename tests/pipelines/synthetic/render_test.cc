@@ -8,6 +8,7 @@
 #include "model/equilibrium.h"
 #include "model/units.h"
 #include "pipelines/commands/render_command.h"
+#include "pipelines/measurement/camera_processing.h"
 #include "pipelines/synthetic/render_timeline.h"
 #include "pipelines/synthetic/scene_renderer.h"
 #include "tests/support/rendered_truth.h"
@@ -586,6 +587,70 @@ TEST(SceneRenderer, TagScaleIgnoresLocalToneMapping) {
       EXPECT_LT((centre.centre - dot.pixel).norm(), 0.025) << strength;
     }
   }
+}
+
+// The tag's border shows what the camera did to its image (TagEdgeSigns),
+// each sign on its own: on plain footage (the default lighting and noise,
+// with the lens's blur, or through a Bayer sensor) none is named (halos
+// 0.2-0.3 % of the step, edges within 0.01 px); sharpening leaves halos
+// (15 % at 1 px x 0.8, 2.1 % at 0.5 px x 0.3, 2.6 % after 1 px of lens blur
+// and under a strong S-curve) and moves every edge toward its dark side
+// (0.04-0.4 px), a strong tone curve the metadata does not name moves them
+// too (0.033 px at 1.0), and local tone mapping lifts the white beyond the
+// border over the white inside it (4.6 % at 0.6). One frame each,
+// unencoded.
+TEST(SceneRenderer, TagBorderShowsTheCamerasProcessing) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  const Eigen::Vector2d x(0.3719, -0.6024);
+  const auto named = [&](const std::function<void(RenderOptions*)>& change) {
+    RenderOptions options;
+    options.tilt_x_deg = 2.0, options.tilt_y_deg = -1.2;
+    change(&options);
+    const SceneRenderer renderer(plan, options);
+    cv::Mat luma;
+    cv::cvtColor(renderer.Render({x}, 0), luma, cv::COLOR_BGR2GRAY);
+    const std::vector<TagDetection> tags = TagDetector().Detect(luma);
+    std::vector<std::string> names;
+    EXPECT_EQ(tags.size(), 1u);
+    if (tags.empty() || !tags[0].signs) {
+      ADD_FAILURE() << "no signs";
+      return names;
+    }
+    const CameraProcessing p = DescribeCameraProcessing({*tags[0].signs}, {});
+    for (const ProcessingEffect& e : p.effects) names.push_back(e.name);
+    return names;
+  };
+  using Names = std::vector<std::string>;
+  const std::string halos = "sharpening halos";
+  const std::string curve =
+      "a tone curve or filtering the video's transfer does not describe";
+  const std::string gain =
+      "local tone mapping or light falling off across the tag";
+  EXPECT_EQ(named([](RenderOptions*) {}), Names{});
+  EXPECT_EQ(named([](RenderOptions* o) { o->lens_blur_px = 0.6; }), Names{});
+  EXPECT_EQ(named([](RenderOptions* o) {
+              o->sensor.demosaic = Demosaic::kBilinear;
+              o->lens_blur_px = 0.6;
+            }),
+            Names{});
+  EXPECT_EQ(named([](RenderOptions* o) { o->sharpen_amount = 0.8; }),
+            (Names{halos, curve}));
+  EXPECT_EQ(named([](RenderOptions* o) {
+              o->sharpen_radius_px = 0.5, o->sharpen_amount = 0.3;
+            }),
+            (Names{halos, curve}));
+  // A phone's strongest: its halos are cut by the curve's shoulder at
+  // white, and still named.
+  EXPECT_EQ(named([](RenderOptions* o) {
+              o->lens_blur_px = 1.0;
+              o->sensor.demosaic = Demosaic::kBilinear;
+              o->sensor.full_well_e = 6000;
+              o->tone_curve = 1.0;
+              o->sharpen_amount = 1.5;
+            }),
+            (Names{halos, curve}));
+  EXPECT_EQ(named([](RenderOptions* o) { o->tone_curve = 1.0; }), Names{curve});
+  EXPECT_EQ(named([](RenderOptions* o) { o->local_tone = 0.6; }), Names{gain});
 }
 
 // A rolling shutter's frame: each row seen after its own camera motion, so

@@ -1,0 +1,90 @@
+#include "pipelines/measurement/camera_processing.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+
+#include "util/check.h"
+#include "util/statistics.h"
+
+namespace softbench {
+
+std::optional<std::string> CameraProcessingOptions::Problem() const {
+  if (!(edge_shift_px > 0.0)) return "edge_shift_px must be > 0";
+  if (!(halo > 0.0)) return "halo must be > 0";
+  if (!(white_ratio > 0.0)) return "white_ratio must be > 0";
+  return std::nullopt;
+}
+
+std::string CameraProcessing::Summary() const {
+  if (!measured) return "not measured: " + why_not;
+  std::vector<std::string> names;
+  for (const ProcessingEffect& e : effects) names.push_back(e.name);
+  return fmt::format(
+      "{} (over {} frames: edges {:.3f} px toward their {} side, halos "
+      "{:.1f} % of the step, the white beyond the border {:+.2f} % against "
+      "inside it)",
+      names.empty() ? std::string("no effect of processing seen")
+                    : fmt::format("{}", fmt::join(names, "; ")),
+      frames, std::abs(signs.edge_shift_px),
+      signs.edge_shift_px > 0 ? "bright" : "dark", 100.0 * signs.halo,
+      100.0 * signs.white_ratio);
+}
+
+CameraProcessing DescribeCameraProcessing(
+    const std::vector<TagEdgeSigns>& frames,
+    const CameraProcessingOptions& options) {
+  SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
+  CameraProcessing out;
+  if (frames.empty()) {
+    out.why_not = "no frame's tag border showed a white data cell";
+    return out;
+  }
+  out.measured = true;
+  out.frames = static_cast<int>(frames.size());
+  std::vector<double> shift, halo, white;
+  for (const TagEdgeSigns& s : frames) {
+    shift.push_back(s.edge_shift_px);
+    halo.push_back(s.halo);
+    white.push_back(s.white_ratio);
+  }
+  TagEdgeSigns& signs = out.signs;
+  signs.edge_shift_px = Median(shift);
+  signs.halo = Median(halo);
+  signs.white_ratio = Median(white);
+  if (signs.halo > options.halo) {
+    out.effects.push_back(
+        {"sharpening halos",
+         fmt::format("edges overshoot by {:.1f} % of their step",
+                     100.0 * signs.halo),
+         "the tag is located by its border's midlines and each dot by the "
+         "centroid of its coverage in a window about it, which halos "
+         "symmetric about an edge or a dot do not move"});
+  }
+  if (std::abs(signs.edge_shift_px) > options.edge_shift_px) {
+    out.effects.push_back(
+        {"a tone curve or filtering the video's transfer does not describe",
+         fmt::format("every edge sits {:.3f} px toward its {} side, as the "
+                     "codes are not the light the transfer names: a phone's "
+                     "own tone curve, sharpening or blur applied to the "
+                     "codes, or noise clipped at black",
+                     std::abs(signs.edge_shift_px),
+                     signs.edge_shift_px > 0 ? "bright" : "dark"),
+         "the tag is located by its black border's midlines, which both "
+         "edges of the one-cell border move apart or together about, so "
+         "the scale does not follow the curve"});
+  }
+  if (std::abs(signs.white_ratio) > options.white_ratio) {
+    out.effects.push_back(
+        {"local tone mapping or light falling off across the tag",
+         fmt::format("the white beyond the border reads {:+.1f} % against "
+                     "the white inside it",
+                     100.0 * signs.white_ratio),
+         "the border's outer edges are moved back by the gain's slope "
+         "measured between the two whites"});
+  }
+  return out;
+}
+
+}  // namespace softbench

@@ -1,0 +1,67 @@
+#ifndef SOFTBENCH_PIPELINES_MEASUREMENT_CAMERA_PROCESSING_H_
+#define SOFTBENCH_PIPELINES_MEASUREMENT_CAMERA_PROCESSING_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vision/tag_detector.h"
+
+namespace softbench {
+
+// When a sign of the camera's processing, seen on the tag's border
+// (TagEdgeSigns, its median over the tag's first frames), is named as an
+// effect. Each bar sits several times above what plain footage shows
+// (render_test's SceneRenderer.TagBorderShowsTheCamerasProcessing) and
+// below what a phone's mildest setting of the stage leaves.
+struct CameraProcessingOptions {
+  // |edge_shift_px| above this: the codes are not the light the video's
+  // transfer names (a tone curve of the phone's, or blur or sharpening
+  // applied to the codes). Plain footage: within 0.02 px (a codec's loss
+  // at CRF 17-23); an S-curve 1.0 moves edges 0.055 px, --isp 0.19 px.
+  double edge_shift_px = 0.03;
+  // halo above this (fraction of an edge's step): sharpening. Unencoded,
+  // plain frames show 0.2-0.3 % and a phone's mildest sharpening (0.5 px x
+  // 0.3) 2.1 %; but a codec rings at edges too: plain footage 0.3-1.0 %
+  // (1.0 % under 1 px of lens blur at CRF 17), and that mild sharpening
+  // 0.8 %. A phone's strongest (1 px x 1.5 after 1 px of lens blur, under
+  // an S-curve 1.0) shows 2.5 % at CRF 10; --isp 5 %.
+  double halo = 0.016;
+  // |white_ratio| above this: local tone mapping or uneven light. Plain
+  // footage under the renderer's lighting fall-off and vignetting: within
+  // 0.8 %; local tone mapping 0.3: 2.1-2.4 %.
+  double white_ratio = 0.015;
+
+  std::optional<std::string> Problem() const;
+};
+
+// One effect of the camera's processing that the measurement saw, what it
+// measured of it and what it does about it.
+struct ProcessingEffect {
+  std::string name;      // "sharpening halos"
+  std::string seen;      // the sign and its size
+  std::string handling;  // why the measurement does not move with it
+};
+
+// What the video's images show of how the camera processed them (issue 28:
+// a phone's sharpening, its own tone curve, local tone mapping).
+struct CameraProcessing {
+  bool measured = false;  // false: no tag, or no frame's border showed them
+  std::string why_not;    // when !measured
+  int frames = 0;         // frames whose border gave the signs
+  TagEdgeSigns signs;     // each the median over those frames
+  std::vector<ProcessingEffect> effects;  // those above the options' bars
+  // One line for a person: the effects seen by name (or that none was),
+  // then the signs.
+  std::string Summary() const;
+};
+
+// The signs of the tag's frames, combined and named. `frames` may be empty
+// (why_not says so).
+CameraProcessing DescribeCameraProcessing(
+    const std::vector<TagEdgeSigns>& frames,
+    const CameraProcessingOptions& options);
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_PIPELINES_MEASUREMENT_CAMERA_PROCESSING_H_
