@@ -40,6 +40,36 @@ namespace {
 // fit: a bump's roll moves far points differently by up to about this.
 constexpr double kStartGatePx = 1.5;
 
+// FitMotion's forward-difference step in its parameters: 1e-6 rad moves
+// a point by a few thousandths of a pixel.
+constexpr double kStep = 1e-6;
+
+// A motion's parameters as FitMotion fits them: the rotation vector (pan,
+// tilt, roll) and the log of the scale.
+Eigen::Vector4d ParametersOf(const CameraMotion& motion) {
+  Eigen::Vector4d p;
+  p << motion.rotation_rad, std::log(motion.scale);
+  return p;
+}
+
+Eigen::Matrix3d CurrentFromReferenceOf(const Eigen::Vector4d& p) {
+  CameraMotion m;
+  m.rotation_rad = p.head<3>();
+  m.scale = std::exp(p[3]);
+  return m.CurrentFromReference();
+}
+
+// The motion's matrix at parameters p (m[0]) and at p + kStep along each
+// of the first `moved` (m[k + 1]): a Jacobian by forward differences.
+std::array<Eigen::Matrix3d, 5> Stepped(const Eigen::Vector4d& p, int moved) {
+  std::array<Eigen::Matrix3d, 5> m;
+  m[0] = CurrentFromReferenceOf(p);
+  for (int k = 0; k < moved; ++k) {
+    m[k + 1] = CurrentFromReferenceOf(p + kStep * Eigen::Vector4d::Unit(k));
+  }
+  return m;
+}
+
 const BenchRegistrationOptions& Checked(const BenchRegistrationOptions& o) {
   // A programmer error: options come from code, not from users.
   SOFTBENCH_CHECK(!o.Problem()) << *o.Problem();
@@ -140,25 +170,13 @@ double BenchRegistration::FitMotion(const std::vector<Point>& points,
   // The normal equations are summed point by point in fixed-size matrices:
   // this runs several times for every frame, and a residual vector and a
   // Jacobian on the heap for each evaluation cost as much as the sums.
-  constexpr double kStep = 1e-6;
-  const auto matrix = [](const Eigen::Vector4d& p) {
-    CameraMotion m;
-    m.rotation_rad = p.head<3>();
-    m.scale = std::exp(p[3]);
-    return m.CurrentFromReference();
-  };
-  Eigen::Vector4d p;
-  p << motion->rotation_rad, std::log(motion->scale);
+  Eigen::Vector4d p = ParametersOf(*motion);
   // The weighted sum of squared misfits at `p`; with `normal` and
   // `gradient`, also J'J and J'r over the first `parameters` (the others'
   // rows are the identity's and zero, so their step is zero).
   const auto sums = [&](Eigen::Matrix4d* normal, Eigen::Vector4d* gradient) {
-    std::array<Eigen::Matrix3d, 5> m;
-    m[0] = matrix(p);
     const int moved = normal != nullptr ? parameters : 0;
-    for (int k = 0; k < moved; ++k) {
-      m[k + 1] = matrix(p + kStep * Eigen::Vector4d::Unit(k));
-    }
+    const SteppedMatrices m = Stepped(p, moved);
     if (normal != nullptr) {
       normal->setZero();
       gradient->setZero();
@@ -170,11 +188,8 @@ double BenchRegistration::FitMotion(const std::vector<Point>& points,
       const Eigen::Vector2d r = root * Misfit(m[0], points[i]);
       squares += r.squaredNorm();
       if (normal == nullptr) continue;
-      Eigen::Matrix<double, 2, 4> jacobian =
-          Eigen::Matrix<double, 2, 4>::Zero();
-      for (int k = 0; k < moved; ++k) {
-        jacobian.col(k) = (root * Misfit(m[k + 1], points[i]) - r) / kStep;
-      }
+      const Eigen::Matrix<double, 2, 4> jacobian =
+          MisfitJacobian(m, moved, points[i], r, root);
       *normal += jacobian.transpose() * jacobian;
       *gradient += jacobian.transpose() * r;
     }
@@ -197,6 +212,59 @@ double BenchRegistration::FitMotion(const std::vector<Point>& points,
   double used = 0.0;
   for (double w : weights) used += w;
   return std::sqrt(squares / std::max(used, 1.0));
+}
+
+Eigen::Matrix<double, 2, 4> BenchRegistration::MisfitJacobian(
+    const SteppedMatrices& m, int moved, const Point& p,
+    const Eigen::Vector2d& misfit, double root) const {
+  Eigen::Matrix<double, 2, 4> jacobian = Eigen::Matrix<double, 2, 4>::Zero();
+  for (int k = 0; k < moved; ++k) {
+    jacobian.col(k) = (root * Misfit(m[k + 1], p) - misfit) / kStep;
+  }
+  return jacobian;
+}
+
+ShutterShearSums BenchRegistration::ShearSums(
+    const std::vector<Point>& points, const std::vector<double>& weights,
+    int parameters, const CameraMotion& motion, const cv::Size& size) const {
+  // The normal equations of the fitted parameters (J'J), of the shear
+  // bases against them (J'B) and against themselves (B'B), and of the
+  // misfits (J'r, B'r), over the points kept; the bases' and misfits'
+  // parts along the fit are taken out through J'J (ShutterShearSums).
+  const SteppedMatrices m = Stepped(ParametersOf(motion), parameters);
+  Eigen::Matrix4d jtj = Eigen::Matrix4d::Zero(), jtb = jtj, btb = jtj;
+  Eigen::Vector4d jtr = Eigen::Vector4d::Zero(), btr = jtr;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (weights[i] == 0.0) continue;
+    const Point& p = points[i];
+    const Eigen::Vector2d r = Misfit(m[0], p);
+    const Eigen::Matrix<double, 2, 4> j = MisfitJacobian(m, parameters, p, r);
+    // The point's line, from -1/2 (first) to +1/2 (last), as a row or a
+    // column; a later line sees the camera later, so the point is seen
+    // moved by s T v and the prediction misses it by minus that.
+    const Eigen::Vector2d s((p.pixel.y() + 0.5) / size.height - 0.5,
+                            (p.pixel.x() + 0.5) / size.width - 0.5);
+    Eigen::Matrix<double, 2, 4> basis;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector2d moved = -s[k / 2] * Eigen::Vector2d::Unit(k % 2);
+      basis.col(k) = p.normal == Eigen::Vector2d::Zero()
+                         ? moved
+                         : Eigen::Vector2d(p.normal.dot(moved), 0.0);
+    }
+    jtj += j.transpose() * j;
+    jtb += j.transpose() * basis;
+    btb += basis.transpose() * basis;
+    jtr += j.transpose() * r;
+    btr += basis.transpose() * r;
+  }
+  for (int k = parameters; k < 4; ++k) jtj(k, k) = 1.0;
+  const auto solver = jtj.ldlt();
+  ShutterShearSums sums;
+  // The fit moves its parameters by -(J'J)^-1 J'B per unit of the bases.
+  sums.motion_from_basis = -solver.solve(jtb);
+  sums.basis_gram = btb + jtb.transpose() * sums.motion_from_basis;
+  sums.misfit_dot_basis = btr - jtb.transpose() * solver.solve(jtr);
+  return sums;
 }
 
 std::optional<std::array<Eigen::Vector2d, 4>> BenchRegistration::Follow(
@@ -410,6 +478,8 @@ FrameRegistration BenchRegistration::Fit(
   }
   out.registered = true;
   out.shift_px = motion.ShiftPx(camera_.intrinsics());
+  out.shear_sums =
+      ShearSums(points, weights, out.parameters, motion, luma.size());
   if (out.tag_used && tag_looked_for) {
     out.tag_corners = corners;
     last_corners_ = *corners;

@@ -10,6 +10,7 @@
 
 #include "vision/camera.h"
 #include "vision/camera_motion.h"
+#include "vision/rolling_shutter.h"
 #include "vision/static_patches.h"
 #include "vision/tag_detector.h"
 
@@ -92,6 +93,9 @@ struct FrameRegistration {
   // The tag was not looked for: a still camera between its tag_stride
   // frames, registered with its corners held (tag_stride).
   bool tag_skipped = false;
+  // The points' misfits against a rolling shutter's shear
+  // (EstimateRollingShutter), when registered.
+  ShutterShearSums shear_sums;
 };
 
 // Registers every frame to the fixed bench: the camera's motion since the
@@ -129,6 +133,9 @@ class BenchRegistration {
   // libapriltag's working state and is made again when first needed.
   BenchRegistration(const BenchRegistration& other);
 
+  // The motion's matrix and those a step along each fitted parameter away
+  // (Stepped in the .cc): FitMotion's forward differences.
+  using SteppedMatrices = std::array<Eigen::Matrix3d, 5>;
   struct Point {
     Eigen::Vector3d ray;    // reference, normalised homogeneous
     Eigen::Vector2d pixel;  // observed now
@@ -151,6 +158,18 @@ class BenchRegistration {
   double FitMotion(const std::vector<Point>& points,
                    const std::vector<double>& weights, int parameters,
                    CameraMotion* motion) const;
+  // A point's misfit's Jacobian in the first `moved` parameters, from
+  // `m` and its `misfit` at m[0] (both scaled by `root`, a weight's root).
+  Eigen::Matrix<double, 2, 4> MisfitJacobian(const SteppedMatrices& m,
+                                             int moved, const Point& p,
+                                             const Eigen::Vector2d& misfit,
+                                             double root = 1.0) const;
+  // The kept points' misfits against a rolling shutter's shear, at the
+  // fitted `motion` (ShutterShearSums); `size` the frame's.
+  ShutterShearSums ShearSums(const std::vector<Point>& points,
+                             const std::vector<double>& weights, int parameters,
+                             const CameraMotion& motion,
+                             const cv::Size& size) const;
   Eigen::Vector2d Predict(const Eigen::Matrix3d& current_from_reference,
                           const Eigen::Vector3d& ray) const;
   // A robust start without the tag: weight 1 for the points that moved

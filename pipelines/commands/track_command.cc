@@ -49,6 +49,12 @@ int RunTrack(const TrackCommandOptions& options, std::ostream& out) {
     out << "camera's processing, seen on the tag's border: "
         << m.camera_processing.Summary() << "\n";
   }
+  // Each frame's positions keep a rolling shutter's shear (only windows'
+  // medians average it out), so a trajectory's reader is told of it.
+  if (m.camera_processing.rolling_shutter.measured) {
+    out << "rolling shutter: " << m.camera_processing.rolling_shutter.Summary()
+        << "\n";
+  }
   if (m.distortion.performed) {
     if (m.distortion.warn) {
       spdlog::warn("{}", m.distortion.message);

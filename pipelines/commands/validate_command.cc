@@ -87,8 +87,8 @@ std::string SummaryText(const VideoValidation& v) {
     for (const ProcessingEffect& e : processing.effects)
       names.push_back(e.name);
     text += fmt::format(
-        "  the camera's processing, seen on the tag's border: {} (the "
-        "report's Calibration says why none of it moves the measurement)\n",
+        "  the camera's processing, seen in the footage: {} (the report's "
+        "Calibration says why none of it moves the measurement)\n",
         fmt::join(names, "; "));
   }
   for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {

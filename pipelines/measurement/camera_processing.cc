@@ -10,17 +10,30 @@
 
 namespace softbench {
 
+namespace {
+
+// The effect NameRollingShutter adds: seen in the registration, not on the
+// tag's border.
+constexpr char kRollingShutterShear[] = "rolling-shutter shear";
+
+}  // namespace
+
 std::optional<std::string> CameraProcessingOptions::Problem() const {
   if (!(edge_shift_px > 0.0)) return "edge_shift_px must be > 0";
   if (!(halo > 0.0)) return "halo must be > 0";
   if (!(white_ratio > 0.0)) return "white_ratio must be > 0";
+  if (auto problem = rolling_shutter.Problem()) {
+    return "rolling_shutter: " + *problem;
+  }
   return std::nullopt;
 }
 
 std::string CameraProcessing::Summary() const {
   if (!measured) return "not measured: " + why_not;
   std::vector<std::string> names;
-  for (const ProcessingEffect& e : effects) names.push_back(e.name);
+  for (const ProcessingEffect& e : effects) {
+    if (e.name != kRollingShutterShear) names.push_back(e.name);
+  }
   return fmt::format(
       "{} (over {} frames: edges {:.3f} px toward their {} side, halos "
       "{:.1f} % of the step, the white beyond the border {:+.2f} % against "
@@ -85,6 +98,24 @@ CameraProcessing DescribeCameraProcessing(
          "measured between the two whites"});
   }
   return out;
+}
+
+void NameRollingShutter(const RollingShutter& shutter,
+                        CameraProcessing* processing) {
+  processing->rolling_shutter = shutter;
+  if (!shutter.seen) return;
+  processing->effects.push_back(
+      {kRollingShutterShear,
+       fmt::format("the sensor's lines were read one after another over "
+                   "{:.1f} ± {:.1f} ms, so the camera's motion moved the "
+                   "image {:.3f} px RMS between the first line and the last",
+                   1e3 * std::abs(shutter.readout_s()),
+                   1e3 * shutter.standard_error_s(), shutter.shear_rms_px),
+       "each head is measured through the camera's motion when its line "
+       "was read: the frame's, moved on by the line's delay times the "
+       "camera's image velocity (frames within 8 of the video's ends or a "
+       "gap, whose velocity is not known, keep the shear, which a window's "
+       "median averages out as the camera trembles back and forth)"});
 }
 
 }  // namespace softbench

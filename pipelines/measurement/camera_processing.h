@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "vision/rolling_shutter.h"
 #include "vision/tag_detector.h"
 
 namespace softbench {
@@ -31,6 +32,8 @@ struct CameraProcessingOptions {
   // footage under the renderer's lighting fall-off and vignetting: within
   // 0.8 %; local tone mapping 0.3: 2.1-2.4 %.
   double white_ratio = 0.015;
+  // A rolling shutter, measured from the registration's misfits.
+  RollingShutterOptions rolling_shutter;
 
   std::optional<std::string> Problem() const;
 };
@@ -44,15 +47,17 @@ struct ProcessingEffect {
 };
 
 // What the video's images show of how the camera processed them (issue 28:
-// a phone's sharpening, its own tone curve, local tone mapping).
+// a phone's sharpening, its own tone curve, local tone mapping, on the
+// tag's border; its rolling shutter, in the registration).
 struct CameraProcessing {
   bool measured = false;  // false: no tag, or no frame's border showed them
   std::string why_not;    // when !measured
   int frames = 0;         // frames whose border gave the signs
   TagEdgeSigns signs;     // each the median over those frames
   std::vector<ProcessingEffect> effects;  // those above the options' bars
-  // One line for a person: the effects seen by name (or that none was),
-  // then the signs.
+  RollingShutter rolling_shutter;         // from the registration
+  // One line for a person: the tag border's effects seen by name (or that
+  // none was), then its signs.
   std::string Summary() const;
 };
 
@@ -61,6 +66,11 @@ struct CameraProcessing {
 CameraProcessing DescribeCameraProcessing(
     const std::vector<TagEdgeSigns>& frames,
     const CameraProcessingOptions& options);
+
+// Keeps `shutter` in `processing`, and names its shear as an effect when it
+// was seen.
+void NameRollingShutter(const RollingShutter& shutter,
+                        CameraProcessing* processing);
 
 }  // namespace softbench
 

@@ -11,6 +11,7 @@
 
 #include "vision/camera_motion.h"
 #include "vision/head_tracker.h"
+#include "vision/rolling_shutter.h"
 
 namespace softbench {
 
@@ -51,6 +52,8 @@ struct FrameSample {
   double camera_roll_rad = 0.0;
   // The tag's corners in this frame, where registration located them.
   std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
+  // The registration's misfits against a rolling shutter's shear.
+  ShutterShearSums shear_sums;
 };
 
 // The heads of one frame, cut out for the report's annotated pictures.

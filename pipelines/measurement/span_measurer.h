@@ -210,6 +210,7 @@ class SpanMeasurer {
     }
     sample->camera_motion = r.motion;
     sample->tag_corners = r.tag_corners;
+    sample->shear_sums = r.shear_sums;
     tracker_.SetMapping(
         mapping_.AfterCameraMotion(r.motion.CurrentFromReference()));
     return true;

@@ -63,33 +63,83 @@ std::vector<TimeSpan> MergeSpans(std::vector<TimeSpan> spans, double duration_s,
   return merged;
 }
 
+// The frames' own registrations (before the camera's path replaces them).
+RegisteredFrames RegisteredFramesOf(const std::vector<FrameSample>& frames,
+                                    const CameraIntrinsics& intrinsics) {
+  RegisteredFrames r;
+  for (const FrameSample& f : frames) {
+    r.times_s.push_back(f.time_s);
+    r.shifts_px.push_back(f.camera_motion.ShiftPx(intrinsics));
+    r.sums.push_back(f.shear_sums);
+    r.index.push_back(f.frame);
+    r.registered.push_back(f.registered);
+  }
+  return r;
+}
+
+// `motion` as the camera was `delay_s` later, moving the image at
+// `velocity_px_s`: a pan and tilt of delay x velocity more.
+CameraMotion MotionLater(const CameraIntrinsics& intrinsics,
+                         const CameraMotion& motion, double delay_s,
+                         const Eigen::Vector2d& velocity_px_s) {
+  CameraMotion later = motion;
+  later.rotation_rad +=
+      CameraMotion::FromImageShift(intrinsics, delay_s * velocity_px_s, 0.0)
+          .rotation_rad;
+  return later;
+}
+
 // Replaces each registered frame's own camera motion by the camera's path
 // (SmoothCameraPath: knocks kept, tremor followed, a codec's slow wobble of
 // a still camera's static edges averaged) and measures its heads again
-// through `mapping` (the tag over the whole video) moved by it.
-void FollowCameraPath(const PlaneMapping& mapping, const HeadTracker& tracker,
-                      const CameraPathOptions& options, double frame_interval_s,
-                      std::vector<FrameSample>* frames) {
+// through `mapping` (the tag over the whole video) moved by it. Under a
+// rolling shutter that was seen, each frame's motion is first freed of
+// the shear its fit took up (RollingShutter::MiddleLineMotion), and each
+// head is measured through the camera's motion when its line was read: the
+// frame's, moved on by the line's delay times the camera's image velocity
+// (`velocities`, per frame).
+void FollowCameraPath(
+    const PlaneMapping& mapping, const HeadTracker& tracker,
+    const CameraPathOptions& options, double frame_interval_s,
+    const RollingShutter& shutter,
+    const std::vector<std::optional<Eigen::Vector2d>>& velocities,
+    std::vector<FrameSample>* frames) {
   std::vector<double> times;
   std::vector<CameraMotion> raw;
   std::vector<bool> valid;
-  for (const FrameSample& f : *frames) {
+  for (size_t i = 0; i < frames->size(); ++i) {
+    const FrameSample& f = (*frames)[i];
     times.push_back(f.time_s);
-    raw.push_back(f.camera_motion);
+    raw.push_back(velocities[i]
+                      ? shutter.MiddleLineMotion(f.camera_motion, f.shear_sums,
+                                                 *velocities[i])
+                      : f.camera_motion);
     valid.push_back(f.registered);
   }
-  const std::vector<CameraMotion> path = SmoothCameraPath(
-      mapping.intrinsics(), times, raw, valid, 2.5 * frame_interval_s, options);
+  const CameraIntrinsics& k = mapping.intrinsics();
+  const std::vector<CameraMotion> path =
+      SmoothCameraPath(k, times, raw, valid, 2.5 * frame_interval_s, options);
+  const Eigen::Vector2d size_px(k.width_px, k.height_px);
   for (size_t i = 0; i < frames->size(); ++i) {
     FrameSample& f = (*frames)[i];
     if (!f.registered) continue;
     f.camera_motion = path[i];
-    f.camera_shift_px = path[i].ShiftPx(mapping.intrinsics());
+    f.camera_shift_px = path[i].ShiftPx(k);
     f.camera_roll_rad = path[i].roll_rad();
     const PlaneMapping moved =
         mapping.AfterCameraMotion(path[i].CurrentFromReference());
     for (size_t h = 0; h < f.heads.size(); ++h) {
-      tracker.Remap(static_cast<int>(h), moved, &f.heads[h].observation);
+      HeadObservation& observation = f.heads[h].observation;
+      const double delay_s = shutter.ReadDelayS(observation.pixel, size_px);
+      if (delay_s == 0.0 || !velocities[i] || !observation.pixel.allFinite()) {
+        tracker.Remap(static_cast<int>(h), moved, &observation);
+        continue;
+      }
+      const CameraMotion read =
+          MotionLater(k, path[i], delay_s, *velocities[i]);
+      tracker.Remap(static_cast<int>(h),
+                    mapping.AfterCameraMotion(read.CurrentFromReference()),
+                    &observation);
     }
   }
 }
@@ -423,6 +473,8 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   if (!plan.calibration.tag) {
     m.camera_processing.why_not = "the plan has no tag to read it from";
   }
+  m.camera_processing.rolling_shutter.why_not =
+      "the frames were not registered to the bench";
   m.mm_per_px = mapping.MmPerPixelAt(
       Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
   m.mapping = mapping;
@@ -476,11 +528,17 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   progress.Finish();
   for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
   if (m.registers_frames) {
+    const RollingShutterOptions& shutter_options =
+        options.camera_processing.rolling_shutter;
+    const RegisteredFrames r = RegisteredFramesOf(m.frames, intrinsics);
+    NameRollingShutter(EstimateRollingShutter(r, shutter_options),
+                       &m.camera_processing);
     FollowCameraPath(
         TagMappingOverTheVideo(plan, intrinsics, registrations,
                                options.tag_frames, &m, &tag_corners),
         measurers.front().tracker(), options.camera_path, info.frame_interval_s,
-        &m.frames);
+        m.camera_processing.rolling_shutter,
+        ImageVelocities(r, shutter_options), &m.frames);
   }
   m.intrinsics_sensitivity =
       IntrinsicsSensitivity(plan, intrinsics, *m.mapping, tag_corners);

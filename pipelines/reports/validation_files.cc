@@ -196,21 +196,43 @@ json BudgetJson(const UncertaintyBudget& budget) {
           {"terms", terms}};
 }
 
-// What the tag's border showed of the camera's processing: the signs (each
-// the median over the tag's frames, with its unit) and the effects named.
+// A rolling shutter as the registration measured it: the readouts along
+// the rows and the columns with their standard errors [ms].
+json RollingShutterJson(const RollingShutter& r) {
+  if (!r.measured) return {{"measured", false}, {"why_not", r.why_not}};
+  return {{"measured", true},
+          {"frames", r.frames},
+          {"seen", r.seen},
+          {"lines", r.by_rows ? "rows" : "columns"},
+          {"rows_readout_ms", JsonNumber(1e3 * r.rows_readout_s)},
+          {"rows_standard_error_ms", JsonNumber(1e3 * r.rows_standard_error_s)},
+          {"columns_readout_ms", JsonNumber(1e3 * r.columns_readout_s)},
+          {"columns_standard_error_ms",
+           JsonNumber(1e3 * r.columns_standard_error_s)},
+          {"shear_rms_px", JsonNumber(r.shear_rms_px)}};
+}
+
+// What the footage showed of the camera's processing: the tag border's
+// signs (each the median over the tag's frames, with its unit), the
+// rolling shutter, and the effects named.
 json CameraProcessingJson(const CameraProcessing& p) {
-  if (!p.measured) return {{"measured", false}, {"why_not", p.why_not}};
   json effects = json::array();
   for (const ProcessingEffect& e : p.effects) {
     effects.push_back(
         {{"effect", e.name}, {"seen", e.seen}, {"handling", e.handling}});
   }
-  return {{"measured", true},
-          {"frames", p.frames},
-          {"edge_shift_px", JsonNumber(p.signs.edge_shift_px)},
-          {"halo_percent", JsonNumber(100.0 * p.signs.halo)},
-          {"white_ratio_percent", JsonNumber(100.0 * p.signs.white_ratio)},
-          {"effects", effects}};
+  json out = {{"measured", p.measured}};
+  if (p.measured) {
+    out["frames"] = p.frames;
+    out["edge_shift_px"] = JsonNumber(p.signs.edge_shift_px);
+    out["halo_percent"] = JsonNumber(100.0 * p.signs.halo);
+    out["white_ratio_percent"] = JsonNumber(100.0 * p.signs.white_ratio);
+  } else {
+    out["why_not"] = p.why_not;
+  }
+  out["rolling_shutter"] = RollingShutterJson(p.rolling_shutter);
+  out["effects"] = effects;
+  return out;
 }
 
 // One test's windows and, where measured, its heads' uncertainty budgets.

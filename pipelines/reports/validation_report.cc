@@ -312,6 +312,8 @@ void AddCalibration(const TestPlan& plan, const VideoMeasurement& m,
        {"distortion check", m.distortion.message},
        {"camera's processing, seen on the tag's border",
         m.camera_processing.Summary()},
+       {"rolling shutter, seen in the registration's misfits",
+        m.camera_processing.rolling_shutter.Summary()},
        {"registration to the bench", m.registration},
        {"frames not registered",
         m.unregistered_frames == 0
@@ -330,7 +332,8 @@ void AddCalibration(const TestPlan& plan, const VideoMeasurement& m,
     rows.push_back({e.name, e.seen, e.handling});
   }
   report->AddParagraph(
-      "The camera processed its images; the tag's border shows it:");
+      "The camera processed its images, as the tag's border and the "
+      "registration show:");
   report->AddTable({"effect", "seen", "what the measurement does about it"},
                    rows);
 }

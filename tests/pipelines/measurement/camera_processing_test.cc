@@ -87,5 +87,29 @@ TEST(CameraProcessingOptions, RefusesBarsThatAreNotPositive) {
   EXPECT_EQ(options.Problem(), "white_ratio must be > 0");
 }
 
+// A rolling shutter seen in the registration joins the effects, with its
+// readout; one measured but not seen, or not measured, does not. The tag
+// border's summary names only what the border showed.
+TEST(CameraProcessing, NamesARollingShutterOnlyWhenSeen) {
+  RollingShutter shutter;
+  shutter.measured = true;
+  shutter.rows_readout_s = 0.0283;
+  shutter.rows_standard_error_s = 0.0011;
+  shutter.shear_rms_px = 0.41;
+  CameraProcessing p = DescribeCameraProcessing({{0.0, 0.002, 0.0}}, {});
+  NameRollingShutter(shutter, &p);
+  EXPECT_TRUE(p.effects.empty());
+  EXPECT_TRUE(p.rolling_shutter.measured);
+  shutter.seen = true;
+  NameRollingShutter(shutter, &p);
+  ASSERT_EQ(Names(p), std::vector<std::string>{"rolling-shutter shear"});
+  EXPECT_NE(p.effects[0].seen.find("28.3 ± 1.1 ms"), std::string::npos)
+      << p.effects[0].seen;
+  EXPECT_NE(p.effects[0].seen.find("0.410 px RMS"), std::string::npos)
+      << p.effects[0].seen;
+  EXPECT_NE(p.Summary().find("no effect of processing seen"), std::string::npos)
+      << p.Summary();
+}
+
 }  // namespace
 }  // namespace softbench

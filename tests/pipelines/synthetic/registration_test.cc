@@ -3,6 +3,7 @@
 // and a frame with nothing static to register is left out, not measured.
 #include <gtest/gtest.h>
 
+#include <iostream>
 #include <opencv2/imgproc.hpp>
 
 #include "model/units.h"
@@ -10,6 +11,7 @@
 #include "pipelines/synthetic/scene_renderer.h"
 #include "util/input_error.h"
 #include "vision/bench_registration.h"
+#include "vision/rolling_shutter.h"
 #include "vision/tag_detector.h"
 
 namespace softbench {
@@ -70,6 +72,84 @@ TEST(BenchRegistration, RecoversTheRenderedCameraMotion) {
     EXPECT_LT((r.shift_px - truth).norm(), 0.03) << c.shift_px.transpose();
     // 5e-5 rad: 0.02 px 400 px from the centre.
     EXPECT_NEAR(r.motion.roll_rad(), DegToRad(c.roll_deg), 5e-5);
+  }
+}
+
+// A rolling shutter's shear, from the registration's misfits: a camera
+// trembling by 0.3 px RMS (2-12 Hz) filmed at 30 fps, its rows read over
+// 30 ms, gives its readout back within its standard error (with the
+// options' systematic part); read all at once, none is seen. 720p frames,
+// 64 of them in blocks of 8, keep the test short.
+TEST(BenchRegistration, ItsMisfitsMeasureARollingShuttersReadout) {
+  const TestPlan plan = ParseTestPlan(kPlan, "plan.yaml");
+  RenderOptions options;
+  options.intrinsics =
+      CameraIntrinsics::FromEquivalentFocalLength(52.0, 1280, 720);
+  options.supersampling = 4;
+  const SceneRenderer renderer(plan, options);
+  const Eigen::VectorXd rest = Eigen::VectorXd::Zero(2);
+  const cv::Mat reference = Luma(renderer.Render({rest}, 0));
+  BenchConditionsOptions trembling;
+  trembling.tremor_px = 0.3;
+  RollingShutterOptions shutter_options;
+  shutter_options.block_frames = 8;
+  // 48 with a velocity, 8 either side: 6 blocks.
+  constexpr int kFrames = 64;
+  const BenchConditions bench(trembling, options.intrinsics, kFrames / 30.0);
+  for (const double readout_s : {0.03, 0.0}) {
+    SCOPED_TRACE(readout_s);
+    BenchRegistration registration(options.intrinsics, reference, cv::Mat(),
+                                   DetectTag(reference));
+    RegisteredFrames frames;
+    std::vector<CameraMotion> fitted;
+    for (int i = 0; i < kFrames; ++i) {
+      const double t = i / 30.0;
+      const FrameRegistration r = registration.Register(
+          Luma(renderer.Render({rest}, i + 1, bench.ReadOut(t, readout_s, 0))));
+      ASSERT_TRUE(r.registered) << r.why_not;
+      frames.times_s.push_back(t);
+      frames.shifts_px.push_back(r.shift_px);
+      frames.sums.push_back(r.shear_sums);
+      frames.index.push_back(i);
+      frames.registered.push_back(true);
+      fitted.push_back(r.motion);
+    }
+    const RollingShutter shutter =
+        EstimateRollingShutter(frames, shutter_options);
+    ASSERT_TRUE(shutter.measured) << shutter.why_not;
+    EXPECT_EQ(shutter.seen, readout_s > 0) << shutter.Summary();
+    EXPECT_NEAR(shutter.rows_readout_s, readout_s,
+                2 * shutter.rows_standard_error_s)
+        << shutter.Summary();
+    std::cout << shutter.Summary() << "\n";
+    if (!shutter.seen) continue;
+    EXPECT_TRUE(shutter.by_rows) << shutter.Summary();
+    // The fits took up part of the shear as motion; freed of it, the
+    // frames' motions are nearer their middle lines', as the truth's are:
+    // the shift at the image centre is off by 0.0149 px RMS, not 0.0165
+    // (0.0110 under the global shutter: the reference frame's noise and
+    // the codec-free tracking's own).
+    const std::vector<std::optional<Eigen::Vector2d>> velocities =
+        ImageVelocities(frames, shutter_options);
+    double fitted_squares = 0.0, middle_squares = 0.0;
+    int counted = 0;
+    for (int i = 0; i < kFrames; ++i) {
+      if (!velocities[i]) continue;
+      const Eigen::Vector2d truth =
+          bench.At(frames.times_s[i]).motion.ShiftPx(options.intrinsics);
+      const CameraMotion middle =
+          shutter.MiddleLineMotion(fitted[i], frames.sums[i], *velocities[i]);
+      fitted_squares += (frames.shifts_px[i] - truth).squaredNorm();
+      middle_squares +=
+          (middle.ShiftPx(options.intrinsics) - truth).squaredNorm();
+      ++counted;
+    }
+    ASSERT_EQ(counted, kFrames - 16);
+    const double fitted_rms = std::sqrt(fitted_squares / counted);
+    const double middle_rms = std::sqrt(middle_squares / counted);
+    std::cout << "centre shift off by " << fitted_rms << " px RMS as fitted, "
+              << middle_rms << " px at the middle line\n";
+    EXPECT_LT(middle_rms, 0.95 * fitted_rms);
   }
 }
 
