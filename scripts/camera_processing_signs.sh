@@ -25,12 +25,7 @@ echo "|---|---|---|---|---|"
 case_() {  # name, then render's flags for it
   local name=$1
   shift
-  mkdir -p "$name"
-  "$softbench" --quiet render --plan plan.yaml --out "$name/video.mp4" \
-    --truth "$name/truth.csv" --plan-out "$name/rendered.plan.yaml" \
-    --seed 21 "$@" >/dev/null
-  "$softbench" --quiet validate --plan "$name/rendered.plan.yaml" \
-    "$name/video.mp4" --out "$name/report" >/dev/null
+  render_and_validate "$name" "$@"
   python3 - "$name/report/summary.json" "$*" <<'ROW'
 import json, sys
 p = json.load(open(sys.argv[1]))["camera_processing"]

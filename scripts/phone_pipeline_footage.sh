@@ -19,12 +19,7 @@ cp "$root/scripts/delta_four_points.plan.yaml" plan.yaml
 case_() {  # name, then render's flags for it
   local name=$1
   shift
-  mkdir -p "$name"
-  "$softbench" --quiet render --plan plan.yaml --out "$name/video.mp4" \
-    --truth "$name/truth.csv" --plan-out "$name/rendered.plan.yaml" \
-    --resolution 1080p --crf 17 --seed 21 "$@" >/dev/null
-  "$softbench" --quiet validate --plan "$name/rendered.plan.yaml" \
-    "$name/video.mp4" --out "$name/report" >/dev/null
+  render_and_validate "$name" --resolution 1080p --crf 17 "$@"
   "$root/scripts/score_against_truth.py" "$name/truth.csv" "$name/report" \
     "$name ($*)" | tail -1
 }
