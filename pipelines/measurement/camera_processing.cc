@@ -111,8 +111,9 @@ void NameRollingShutter(const RollingShutter& shutter,
                    "image {:.3f} px RMS between the first line and the last",
                    1e3 * std::abs(shutter.readout_s()),
                    1e3 * shutter.standard_error_s(), shutter.shear_rms_px),
-       "each head is measured through the camera's motion when its line "
-       "was read: the frame's, moved on by the line's delay times the "
+       "each frame's motion is freed of the shear its registration took "
+       "up, and each head is measured through the camera's motion when its "
+       "line was read: the frame's, moved on by the line's delay times the "
        "camera's image velocity (frames within 8 of the video's ends or a "
        "gap, whose velocity is not known, keep the shear, which a window's "
        "median averages out as the camera trembles back and forth)"});
