@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -20,7 +21,6 @@ std::optional<std::string> RollingShutterOptions::Problem() const {
   }
   if (!(systematic_s >= 0.0)) return "systematic_s must be >= 0";
   if (!(min_significance > 0.0)) return "min_significance must be > 0";
-  if (!(min_readout_s >= 0.0)) return "min_readout_s must be >= 0";
   return std::nullopt;
 }
 
@@ -75,25 +75,25 @@ const char* Direction(bool rows, double readout_s) {
   return readout_s >= 0 ? "left column first" : "right column first";
 }
 
-// The two readouts fitted by weighted least squares of the frames' sums
-// (`sums[used[k]]`, velocity[k]) on their designs, with their covariance;
-// nullopt when the frames carry no information on them.
+// The two readouts fitted by weighted least squares of the sums of the
+// `known` frames whose velocity is known on their designs, with their
+// covariance; nullopt when the frames carry no information on them.
 struct ReadoutFit {
   Eigen::Vector2d readouts_s;  // along the rows, the columns
   Eigen::Matrix2d covariance;  // the sandwich's, over `blocks` blocks
 };
 std::optional<ReadoutFit> FitReadouts(
-    const std::vector<ShutterShearSums>& sums, const std::vector<int>& used,
-    const std::vector<Eigen::Vector2d>& velocity, int blocks,
-    const RollingShutterOptions& options) {
+    const std::vector<ShutterShearSums>& sums,
+    const std::vector<std::optional<Eigen::Vector2d>>& velocities, int known,
+    int blocks, const RollingShutterOptions& options) {
   // Weighted least squares of every frame's sums on its design.
   Matrix6d a = Matrix6d::Zero();
   Vector6d b = Vector6d::Zero();
-  for (size_t k = 0; k < used.size(); ++k) {
-    const Design m = DesignOf(velocity[k]);
-    const ShutterShearSums& s = sums[used[k]];
-    a += m.transpose() * s.basis_gram * m;
-    b += m.transpose() * s.misfit_dot_basis;
+  for (size_t i = 0; i < sums.size(); ++i) {
+    if (!velocities[i]) continue;
+    const Design m = DesignOf(*velocities[i]);
+    a += m.transpose() * sums[i].basis_gram * m;
+    b += m.transpose() * sums[i].misfit_dot_basis;
   }
   // The common pattern is profiled out: of its four bases, the fitted roll
   // takes up nearly all of the difference of the two shears and the fitted
@@ -118,14 +118,16 @@ std::optional<ReadoutFit> FitReadouts(
   // the blocks' scores, whatever the misfits' noise and correlations.
   Eigen::Matrix2d meat = Eigen::Matrix2d::Zero();
   Vector6d score = Vector6d::Zero();
-  for (size_t k = 0; k < used.size(); ++k) {
-    const Design m = DesignOf(velocity[k]);
-    const ShutterShearSums& s = sums[used[k]];
+  int k = 0;  // frames scored so far
+  for (size_t i = 0; i < sums.size(); ++i) {
+    if (!velocities[i]) continue;
+    const Design m = DesignOf(*velocities[i]);
+    const ShutterShearSums& s = sums[i];
     score += m.transpose() * (s.misfit_dot_basis - s.basis_gram * m * theta);
+    ++k;
     const bool block_ends =
-        (k + 1) % options.block_frames == 0 &&
-        static_cast<int>(k + 1) / options.block_frames < blocks;
-    if (block_ends || k + 1 == used.size()) {
+        k % options.block_frames == 0 && k / options.block_frames < blocks;
+    if (block_ends || k == known) {
       const Eigen::Vector2d z =
           score.tail<2>() - cross * common_inverse * score.head<4>();
       meat += z * z.transpose();
@@ -211,23 +213,18 @@ std::string RollingShutter::Summary() const {
       Direction(by_rows, readout_s()), frames, shear_rms_px);
 }
 
-RollingShutter EstimateRollingShutter(const RegisteredFrames& frames,
-                                      const RollingShutterOptions& options) {
+RollingShutter EstimateRollingShutter(
+    const RegisteredFrames& frames,
+    const std::vector<std::optional<Eigen::Vector2d>>& velocities,
+    const RollingShutterOptions& options) {
   SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
   const size_t n = frames.times_s.size();
-  SOFTBENCH_CHECK(frames.sums.size() == n) << "one sum per frame";
-  const std::vector<std::optional<Eigen::Vector2d>> velocities =
-      ImageVelocities(frames, options);
-  std::vector<int> used;
-  std::vector<Eigen::Vector2d> velocity;
-  for (int i = 0; i < static_cast<int>(n); ++i) {
-    if (velocities[i]) {
-      used.push_back(i);
-      velocity.push_back(*velocities[i]);
-    }
-  }
+  SOFTBENCH_CHECK(frames.sums.size() == n && velocities.size() == n)
+      << "one sum and one velocity per frame";
   RollingShutter out;
-  out.frames = static_cast<int>(used.size());
+  out.frames = static_cast<int>(
+      std::count_if(velocities.begin(), velocities.end(),
+                    [](const auto& v) { return v.has_value(); }));
   const int blocks = out.frames / options.block_frames;
   if (blocks < options.min_blocks) {
     out.why_not = fmt::format(
@@ -238,7 +235,7 @@ RollingShutter EstimateRollingShutter(const RegisteredFrames& frames,
     return out;
   }
   const std::optional<ReadoutFit> fit =
-      FitReadouts(frames.sums, used, velocity, blocks, options);
+      FitReadouts(frames.sums, velocities, out.frames, blocks, options);
   if (!fit) {
     out.why_not = fmt::format(
         "the camera did not move over {} frames, and a still image shows no "
@@ -264,13 +261,12 @@ RollingShutter EstimateRollingShutter(const RegisteredFrames& frames,
   out.measured = true;
   const double readout_s = out.readout_s();
   out.seen =
-      std::abs(readout_s) >= options.min_readout_s &&
       std::abs(readout_s) >= options.min_significance * out.standard_error_s();
   double squares = 0.0;
-  for (const Eigen::Vector2d& v : velocity) {
-    squares += (readout_s * v).squaredNorm();
+  for (const std::optional<Eigen::Vector2d>& v : velocities) {
+    if (v) squares += (readout_s * *v).squaredNorm();
   }
-  out.shear_rms_px = std::sqrt(squares / velocity.size());
+  out.shear_rms_px = std::sqrt(squares / out.frames);
   return out;
 }
 

@@ -52,10 +52,9 @@ struct RollingShutterOptions {
   // better: a still camera's image does not move, and shows no shear.
   double max_standard_error_s = 0.004;
   // A rolling shutter is named when its readout is this many standard
-  // errors from zero and at least min_readout_s: a phone reads its sensor
-  // in 10-30 ms, and with systematic_s a readout from about 9 ms is named.
+  // errors from zero: a phone reads its sensor in 10-30 ms, and with
+  // systematic_s a readout from about 9 ms is named.
   double min_significance = 4.0;
-  double min_readout_s = 0.002;
 
   std::optional<std::string> Problem() const;
 };
@@ -117,11 +116,14 @@ struct RegisteredFrames {
 std::vector<std::optional<Eigen::Vector2d>> ImageVelocities(
     const RegisteredFrames& frames, const RollingShutterOptions& options = {});
 
-// The readout fitted to every frame's sums, each frame's velocity from its
-// neighbours' shifts (ImageVelocities), with a shear pattern common to all
-// frames (the reference frame's own, a lens model's error) taken out.
+// The readout fitted to the sums of every frame whose velocity is known
+// (`velocities`, one per frame: ImageVelocities of `frames` with the same
+// options), with a shear pattern common to all frames (the reference
+// frame's own, a lens model's error) taken out.
 RollingShutter EstimateRollingShutter(
-    const RegisteredFrames& frames, const RollingShutterOptions& options = {});
+    const RegisteredFrames& frames,
+    const std::vector<std::optional<Eigen::Vector2d>>& velocities,
+    const RollingShutterOptions& options = {});
 
 }  // namespace softbench
 

@@ -97,28 +97,25 @@ CameraMotion MotionLater(const CameraIntrinsics& intrinsics,
 // the shear its fit took up (RollingShutter::MiddleLineMotion), and each
 // head is measured through the camera's motion when its line was read: the
 // frame's, moved on by the line's delay times the camera's image velocity
-// (`velocities`, per frame).
+// (`velocities`, per frame). `registered` is the frames' RegisteredFramesOf.
 void FollowCameraPath(
     const PlaneMapping& mapping, const HeadTracker& tracker,
     const CameraPathOptions& options, double frame_interval_s,
-    const RollingShutter& shutter,
+    const RegisteredFrames& registered, const RollingShutter& shutter,
     const std::vector<std::optional<Eigen::Vector2d>>& velocities,
     std::vector<FrameSample>* frames) {
-  std::vector<double> times;
   std::vector<CameraMotion> raw;
-  std::vector<bool> valid;
   for (size_t i = 0; i < frames->size(); ++i) {
     const FrameSample& f = (*frames)[i];
-    times.push_back(f.time_s);
     raw.push_back(velocities[i]
                       ? shutter.MiddleLineMotion(f.camera_motion, f.shear_sums,
                                                  *velocities[i])
                       : f.camera_motion);
-    valid.push_back(f.registered);
   }
   const CameraIntrinsics& k = mapping.intrinsics();
   const std::vector<CameraMotion> path =
-      SmoothCameraPath(k, times, raw, valid, 2.5 * frame_interval_s, options);
+      SmoothCameraPath(k, registered.times_s, raw, registered.registered,
+                       2.5 * frame_interval_s, options);
   const Eigen::Vector2d size_px(k.width_px, k.height_px);
   for (size_t i = 0; i < frames->size(); ++i) {
     FrameSample& f = (*frames)[i];
@@ -531,14 +528,15 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
     const RollingShutterOptions& shutter_options =
         options.camera_processing.rolling_shutter;
     const RegisteredFrames r = RegisteredFramesOf(m.frames, intrinsics);
-    NameRollingShutter(EstimateRollingShutter(r, shutter_options),
+    const std::vector<std::optional<Eigen::Vector2d>> velocities =
+        ImageVelocities(r, shutter_options);
+    NameRollingShutter(EstimateRollingShutter(r, velocities, shutter_options),
                        &m.camera_processing);
     FollowCameraPath(
         TagMappingOverTheVideo(plan, intrinsics, registrations,
                                options.tag_frames, &m, &tag_corners),
         measurers.front().tracker(), options.camera_path, info.frame_interval_s,
-        m.camera_processing.rolling_shutter,
-        ImageVelocities(r, shutter_options), &m.frames);
+        r, m.camera_processing.rolling_shutter, velocities, &m.frames);
   }
   m.intrinsics_sensitivity =
       IntrinsicsSensitivity(plan, intrinsics, *m.mapping, tag_corners);

@@ -15,7 +15,8 @@ namespace {
 
 struct Clip : RegisteredFrames {
   RollingShutter Estimate(const RollingShutterOptions& options = {}) const {
-    return EstimateRollingShutter(*this, options);
+    return EstimateRollingShutter(*this, ImageVelocities(*this, options),
+                                  options);
   }
 };
 

@@ -114,8 +114,10 @@ TEST(BenchRegistration, ItsMisfitsMeasureARollingShuttersReadout) {
       frames.registered.push_back(true);
       fitted.push_back(r.motion);
     }
+    const std::vector<std::optional<Eigen::Vector2d>> velocities =
+        ImageVelocities(frames, shutter_options);
     const RollingShutter shutter =
-        EstimateRollingShutter(frames, shutter_options);
+        EstimateRollingShutter(frames, velocities, shutter_options);
     ASSERT_TRUE(shutter.measured) << shutter.why_not;
     EXPECT_EQ(shutter.seen, readout_s > 0) << shutter.Summary();
     EXPECT_NEAR(shutter.rows_readout_s, readout_s,
@@ -129,8 +131,6 @@ TEST(BenchRegistration, ItsMisfitsMeasureARollingShuttersReadout) {
     // the shift at the image centre is off by 0.0149 px RMS, not 0.0165
     // (0.0110 under the global shutter: the reference frame's noise and
     // the codec-free tracking's own).
-    const std::vector<std::optional<Eigen::Vector2d>> velocities =
-        ImageVelocities(frames, shutter_options);
     double fitted_squares = 0.0, middle_squares = 0.0;
     int counted = 0;
     for (int i = 0; i < kFrames; ++i) {
