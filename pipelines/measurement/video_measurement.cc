@@ -431,8 +431,8 @@ void CheckFramesRegistered(const VideoMeasurement& m) {
   }
 }
 
-// After the frames: checks, rest positions, displacements and the
-// distortion check.
+// After the frames: checks, rest positions, displacements and the dots'
+// spacing against the layout (the distortion check).
 void Finish(const TestPlan& plan, const VideoInfo& info,
             const VideoMeasurementOptions& options, VideoMeasurement* m) {
   CheckFramesRegistered(*m);
@@ -440,9 +440,8 @@ void Finish(const TestPlan& plan, const VideoInfo& info,
       m->every_frame ? m->frames.back().time_s : info.LastFrameS();
   SetDisplacements(plan, options.rest_s, m);
   MeasurePlatePoses(options, m);
-  if (plan.calibration.intrinsics_path.empty()) {
-    m->distortion = CheckDistortion(plan, m->frames, m->scale_source);
-  }
+  m->distortion = CheckDistortion(plan, m->frames, m->scale_source,
+                                  m->mapping->CameraHeightMm());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #define SOFTBENCH_PIPELINES_MEASUREMENT_VIDEO_MEASUREMENT_H_
 
 #include <Eigen/Core>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -69,8 +70,21 @@ struct VideoMeasurementOptions {
 // through the mapping, over the plan's layout spacing, at every frame.
 struct DistortionCheck {
   bool performed = false;
+  // The dots' mean spacing through the mapping over the layout's, per
+  // frame and head: the median, and the 5th and 95th percentiles.
   double median_ratio = 1.0;
-  double min_ratio = 1.0, max_ratio = 1.0;  // 5th and 95th percentiles
+  double min_ratio = 1.0, max_ratio = 1.0;
+  // How far the dots' shape departs from the layout's once scaled to it:
+  // each pair's distance as a fraction of the pairs' mean, its median over
+  // the frames against the layout's, RMS over the pairs; the worst head
+  // (`shape_head`, -1: no head with three dots, whose shape can be
+  // checked). It tells a layout that is not the printed dots (which then
+  // cannot check the scale) from a scale that is off.
+  double shape_misfit = 0.0;
+  int shape_head = -1;
+  // The dots' height above the tag that would explain median_ratio, were
+  // the prints right [mm]; NaN without a tag's pose.
+  double implied_plane_offset_mm = std::numeric_limits<double>::quiet_NaN();
   double tolerance = 0.0;
   bool warn = false;
   std::string message;

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <numbers>
 
@@ -311,6 +312,24 @@ json SummaryJson(const VideoValidation& v) {
       {"tilt_deg", m.mapping->TiltRad() * 180.0 / std::numbers::pi},
       {"distortion_check", m.distortion.message},
       {"distortion_warning", m.distortion.warn}};
+  if (m.distortion.performed) {
+    const DistortionCheck& d = m.distortion;
+    json layout = {
+        {"spacing_over_layout_percent", 100.0 * (d.median_ratio - 1.0)},
+        {"range_percent", 100.0 * (d.max_ratio - d.min_ratio)},
+        {"tolerance_percent", 100.0 * d.tolerance},
+        {"shape_misfit_percent", nullptr},
+        {"shape_head", nullptr},
+        {"implied_plane_offset_mm", nullptr}};
+    if (d.shape_head >= 0) {
+      layout["shape_misfit_percent"] = 100.0 * d.shape_misfit;
+      layout["shape_head"] = plan.mechanism.heads[d.shape_head].name;
+    }
+    if (std::isfinite(d.implied_plane_offset_mm)) {
+      layout["implied_plane_offset_mm"] = d.implied_plane_offset_mm;
+    }
+    root["calibration"]["layout_check"] = std::move(layout);
+  }
   root["camera_processing"] = CameraProcessingJson(m.camera_processing);
   root["registration"] = {{"method", m.registration},
                           {"unregistered_frames", m.unregistered_frames},

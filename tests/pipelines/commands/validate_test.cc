@@ -483,6 +483,17 @@ class ValidateCommandTest : public ScratchDirectoryTest {
     options.quiet = true;
     return options;
   }
+  // The delta sample's rendered plan with `from` replaced by `to`.
+  std::string EditedRenderedDeltaPlan(std::string_view from,
+                                      std::string_view to) {
+    std::string plan = Read(std::string(SOFTBENCH_SOURCE_DIR) +
+                            "/samples/delta/rendered.plan.yaml");
+    EXPECT_NE(plan.find(from), std::string::npos) << from;
+    if (plan.find(from) != std::string::npos) {
+      plan.replace(plan.find(from), from.size(), to);
+    }
+    return plan;
+  }
   // Validates the delta sample's video against its plan with `from`
   // replaced by `to`; returns the InputError's message ("" when it was
   // accepted) and checks that nothing was written.
@@ -1069,6 +1080,33 @@ TEST_F(ValidateCommandTest, NamesTestsThatDoNotMoveAsTheirPlanEntries) {
       << out.str();
 }
 
+// The delta sample's dots are 16 mm above its tag; a plan that says 19 mm
+// maps them through a plane 3 mm too near the camera, and their spacing
+// comes out 0.6 % short of the layout, alike over the video. The check
+// names the height they measure at, keeps the tag's scale and carries the
+// difference in the uncertainty.
+TEST_F(ValidateCommandTest, NamesTheDotsHeightAPlanMisstates) {
+  ValidateCommandOptions options = DeltaWithPlan(
+      EditedRenderedDeltaPlan("plane_offset_mm: 16", "plane_offset_mm: 19"),
+      /*windows_only=*/true);
+  std::ostringstream out;
+  RunValidate(options, out);
+  const nlohmann::json calibration =
+      nlohmann::json::parse(Read(Path("report/summary.json")))["calibration"];
+  const nlohmann::json& layout = calibration["layout_check"];
+  std::cout << calibration["distortion_check"] << "\n";
+  EXPECT_TRUE(calibration["distortion_warning"].get<bool>());
+  EXPECT_NEAR(layout["implied_plane_offset_mm"].get<double>(), 16.0, 0.5);
+  EXPECT_LT(layout["spacing_over_layout_percent"].get<double>(), -0.4);
+  EXPECT_LT(layout["shape_misfit_percent"].get<double>(), 0.1);
+  EXPECT_EQ(layout["shape_head"], "head");
+  const std::string message = calibration["distortion_check"];
+  for (const char* named :
+       {"plane_offset_mm says 19", "tag 0", "scale is kept"}) {
+    EXPECT_NE(message.find(named), std::string::npos) << named;
+  }
+}
+
 // The plan's times are 3 s late against the video: every window lands on
 // another phase of the motion. Some tests then look plausible by chance (a
 // small motion read backwards); none may be scored, and no hysteresis may be
@@ -1155,12 +1193,10 @@ TEST_F(ValidateCommandTest, NamesTestsLostToDamagedVideoData) {
 // and the exit status says the report is not whole. No settling warning is
 // made up for them.
 TEST_F(ValidateCommandTest, NamesTestsBeyondTheVideosEnd) {
-  const std::string sample = std::string(SOFTBENCH_SOURCE_DIR) + "/samples";
-  std::string plan = Read(sample + "/delta/rendered.plan.yaml");
-  const std::string last = "actuate_s: 106, release_s: 111";
-  ASSERT_NE(plan.find(last), std::string::npos);
-  plan.replace(plan.find(last), last.size(), "actuate_s: 206, release_s: 211");
-  ValidateCommandOptions options = DeltaWithPlan(plan, /*windows_only=*/true);
+  ValidateCommandOptions options =
+      DeltaWithPlan(EditedRenderedDeltaPlan("actuate_s: 106, release_s: 111",
+                                            "actuate_s: 206, release_s: 211"),
+                    /*windows_only=*/true);
   std::ostringstream out;
   EXPECT_EQ(RunValidate(options, out), kExitSomeTestsNotScored);
   EXPECT_NE(out.str().find("not measured: t7b (initial window 205.00-206.00 "
