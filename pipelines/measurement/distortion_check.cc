@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -47,7 +48,10 @@ std::string Cause(const TestPlan& plan, const DistortionCheck& check,
       "the {} scale is kept, and the difference is carried in every "
       "change's uncertainty (its scale term)",
       scale_source);
-  if (check.shape_head >= 0 && check.shape_misfit >= 0.5 * std::abs(offset)) {
+  // A misfit below half the tolerance is not the layout's, whatever made
+  // the check warn (a lens's spread with no offset at all).
+  if (check.shape_head >= 0 &&
+      check.shape_misfit >= 0.5 * std::max(std::abs(offset), check.tolerance)) {
     return fmt::format(
         "; the dots of head '{}' misfit the layout's shape by {:.3f} %, as "
         "much as the scale disagrees: layout_mm does not describe the printed "

@@ -30,15 +30,20 @@ tests:
 
 const char kLayout[] = "[[0, 6.35], [-5.5, -3.175], [5.5, -3.175]]";
 
-// 200 frames of the head with its dots at `dots_mm` times `scale`, moved
-// about and scattered by 0.002 mm per axis (a codec's noise).
+// 200 frames of the head with its dots at `dots_mm` times `scale`, plus
+// from -`swing` over the first frame to +`swing` over the last (a lens's
+// scale, different where the head moves), moved about and scattered by
+// 0.002 mm per axis (a codec's noise).
 std::vector<FrameSample> Frames(const std::vector<Eigen::Vector2d>& dots_mm,
-                                double scale) {
+                                double scale, double swing = 0.0) {
   std::mt19937 random(7);
   std::normal_distribution<double> noise(0.0, 0.002);
   std::uniform_real_distribution<double> place(-3.0, 3.0);
   std::vector<FrameSample> frames(200);
-  for (FrameSample& f : frames) {
+  for (size_t i = 0; i < frames.size(); ++i) {
+    FrameSample& f = frames[i];
+    const double frame_scale =
+        scale + swing * (2.0 * i / (frames.size() - 1.0) - 1.0);
     HeadObservation o;
     o.complete = true;
     const Eigen::Vector2d at(place(random), place(random));
@@ -46,7 +51,7 @@ std::vector<FrameSample> Frames(const std::vector<Eigen::Vector2d>& dots_mm,
       DotObservation dot;
       dot.found = true;
       dot.plane_mm =
-          at + scale * d + Eigen::Vector2d(noise(random), noise(random));
+          at + frame_scale * d + Eigen::Vector2d(noise(random), noise(random));
       o.dots.push_back(dot);
     }
     f.heads.push_back({o, {}, {}});
@@ -117,6 +122,26 @@ TEST(DistortionCheck, DistrustsALayoutItsDotsDoNotHave) {
     EXPECT_NE(check.message.find(named), std::string::npos)
         << named << " in " << check.message;
   }
+}
+
+// A scale that swings by 0.3 % either way across the field is the lens,
+// even where the dots sit 0.015 mm from their layout: a shape misfit of
+// 0.06 % is more than the -0.08 % it makes of the average scale, but
+// cannot make a 0.5 % spread.
+TEST(DistortionCheck, NamesTheLensForAScaleThatDiffersAcrossTheField) {
+  const TestPlan plan = Plan(kLayout);
+  std::vector<Eigen::Vector2d> stuck = plan.markers[0].layout_mm;
+  stuck[0].y() -= 0.015;
+  const DistortionCheck check = CheckDistortion(plan, Frames(stuck, 1.0, 0.003),
+                                                "tag 0", kCameraHeightMm);
+  ASSERT_TRUE(check.warn) << check.message;
+  EXPECT_GT(check.shape_misfit, 0.5 * std::abs(check.median_ratio - 1.0));
+  std::cout << check.message << "\n";
+  EXPECT_NE(check.message.find("differs across the field"), std::string::npos)
+      << check.message;
+  EXPECT_EQ(check.message.find("layout_mm does not describe"),
+            std::string::npos)
+      << check.message;
 }
 
 }  // namespace
