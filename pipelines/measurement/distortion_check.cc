@@ -112,7 +112,7 @@ DistortionCheck CheckDistortion(const TestPlan& plan,
   check.tolerance = plan.calibration.distortion_tolerance;
   const size_t heads = plan.markers.size();
   std::vector<double> ratios;
-  // Per head and pair, the frames' shapes (ShapeOf).
+  // Per head and pair, the pair's share of each frame's distances (Shape).
   std::vector<std::vector<std::vector<double>>> shapes(heads);
   for (const FrameSample& f : frames) {
     for (size_t h = 0; h < f.heads.size() && h < heads; ++h) {
