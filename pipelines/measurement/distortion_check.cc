@@ -111,14 +111,17 @@ DistortionCheck CheckDistortion(const TestPlan& plan,
   DistortionCheck check;
   check.tolerance = plan.calibration.distortion_tolerance;
   const size_t heads = plan.markers.size();
+  std::vector<std::vector<double>> layouts;  // per head, its pairs' [mm]
+  for (const MarkerSpec& marker : plan.markers) {
+    layouts.push_back(OrderedPairDistances(marker.layout_mm));
+  }
   std::vector<double> ratios;
   // Per head and pair, the pair's share of each frame's distances (Shape).
   std::vector<std::vector<std::vector<double>>> shapes(heads);
   for (const FrameSample& f : frames) {
     for (size_t h = 0; h < f.heads.size() && h < heads; ++h) {
       const HeadObservation& obs = f.heads[h].observation;
-      const std::vector<double> layout =
-          OrderedPairDistances(plan.markers[h].layout_mm);
+      const std::vector<double>& layout = layouts[h];
       const double nominal = Mean(layout);
       if (!obs.complete || !(nominal > 0.0)) continue;
       std::vector<Eigen::Vector2d> dots;
@@ -142,8 +145,7 @@ DistortionCheck CheckDistortion(const TestPlan& plan,
   // Two dots have one distance, and no shape to check.
   for (size_t h = 0; h < heads; ++h) {
     if (shapes[h].size() < 3) continue;
-    const std::vector<double> layout =
-        Shape(OrderedPairDistances(plan.markers[h].layout_mm));
+    const std::vector<double> layout = Shape(layouts[h]);
     double squares = 0.0;
     for (size_t k = 0; k < layout.size(); ++k) {
       squares += std::pow(Median(shapes[h][k]) - layout[k], 2);
