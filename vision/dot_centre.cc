@@ -27,11 +27,11 @@ struct BoxPixel {
   double dx, dy, d2, luma;
 };
 
-// The pixels within `outer` of the centre c, each with its linear luma: the
-// ring outside the window (background) into `ring`, the window itself (the
-// dot) into `inside`.
+// The pixels within `outer` of the centre c, each with its linear luma (its
+// code in 8-bit levels with `weigh_codes`): the ring outside the window
+// (background) into `ring`, the window itself (the dot) into `inside`.
 void GatherBox(const cv::Mat& luma, const Eigen::Vector2d& c, double window,
-               double outer, const LumaEncoding& encoding,
+               double outer, const LumaEncoding& encoding, bool weigh_codes,
                std::vector<BoxPixel>* ring, std::vector<BoxPixel>* inside) {
   const int x0 = static_cast<int>(std::floor(c.x() - outer)),
             x1 = static_cast<int>(std::ceil(c.x() + outer)),
@@ -49,6 +49,9 @@ void GatherBox(const cv::Mat& luma, const Eigen::Vector2d& c, double window,
     using T = decltype(type);
     const std::vector<float>& linear =
         LinearLumaTable(encoding, cv::DataType<T>::depth);
+    // Codes from black (limited range's 16), so that lighting scales a
+    // dot's code and its background's alike, as it does their light.
+    const double black = encoding.full_range ? 0.0 : 16.0;
     for (int y = y0; y <= y1; ++y) {
       const T* row = luma.ptr<T>(y);
       const double dy = y - c.y();
@@ -56,7 +59,9 @@ void GatherBox(const cv::Mat& luma, const Eigen::Vector2d& c, double window,
         const double dx = x - c.x();
         const double d2 = dx * dx + dy * dy;
         if (d2 > outer_sq) continue;
-        const BoxPixel p{dx, dy, d2, linear[row[x]]};
+        const BoxPixel p{
+            dx, dy, d2,
+            weigh_codes ? kLevelsPerCode<T> * row[x] - black : linear[row[x]]};
         if (d2 >= window_sq) ring->push_back(p);
         if (d2 < inside_sq) inside->push_back(p);
       }
@@ -123,7 +128,8 @@ bool CentroidStep(const cv::Mat& luma, const Eigen::Vector2d& c,
   }
   // The buffers live as long as the thread, so a step allocates nothing.
   thread_local std::vector<BoxPixel> ring, inside;
-  GatherBox(luma, c, window, outer, options.luma_encoding, &ring, &inside);
+  GatherBox(luma, c, window, outer, options.luma_encoding, options.weigh_codes,
+            &ring, &inside);
   Eigen::Vector3d plane;
   double noise = 0.0;
   if (!FitBackgroundPlane(ring, &plane, &noise)) {

@@ -22,9 +22,9 @@ struct DotCentreOptions {
   // background estimate's error, and the loop stops early below tolerance.
   int max_iterations = 8;
   double tolerance_px = 1e-4;
-  // Least |background - dot| difference in linear light [8-bit levels] to
-  // trust the centre (a red dot on the thesis's clear resin differs by
-  // ~150).
+  // Least |background - dot| difference in linear light (in codes with
+  // weigh_codes) [8-bit levels] to trust the centre (a red dot on the thesis's
+  // clear resin differs by ~150).
   double min_contrast = 15.0;
   // How the luma's codes encode light (FrameSource::luma_encoding): the
   // coverage weights are taken in linear light, where a pixel's value is
@@ -32,6 +32,15 @@ struct DotCentreOptions {
   // bends that and the centre locks toward pixel centres. The default is an
   // SDR image's.
   LumaEncoding luma_encoding;
+  // Weigh the codes as they are, not the light they encode: for codes that
+  // were sharpened after the camera's curve (CameraProcessing's halos). An
+  // unsharp mask is linear in the codes, so it leaves their centroid where
+  // it was, while the light the codes name overshoots and undershoots
+  // unevenly about a sharp edge and moves a dot's centre by up to 0.04 px
+  // with the pixel grid's phase. The price is the curve's bend of the edge's
+  // partly covered pixels, about 0.01 px on a pixel-sharp edge and less
+  // under a lens's blur (docs/measurement.md).
+  bool weigh_codes = false;
 
   std::optional<std::string> Problem() const;
 };

@@ -36,9 +36,10 @@ struct TagDetectorOptions {
 // What a tag's border shows of how the camera processed its image (issue
 // 28), from the border's edge profiles in linear light. Each is near zero
 // for light that the codes encode as the video's metadata says, blurred by
-// the lens before it was recorded; the measurement does not depend on any
-// of them (the border's midlines, CellWhites' gain correction, the dots'
-// model fit), so they are reported, not corrected for again.
+// the lens before it was recorded. The tag's scale does not depend on any
+// of them (the border's midlines, CellWhites' gain correction), so they are
+// reported, not corrected for again; halos have the dots weighed in codes
+// (CameraProcessing::sharpened).
 struct TagEdgeSigns {
   // How far each edge of the one-cell black border sits toward its bright
   // side [px]: half the border's measured width less the cell's width. A

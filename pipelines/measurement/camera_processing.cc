@@ -66,14 +66,16 @@ CameraProcessing DescribeCameraProcessing(
   signs.edge_shift_px = Median(shift);
   signs.halo = Median(halo);
   signs.white_ratio = Median(white);
-  if (signs.halo > options.halo) {
+  out.sharpened = signs.halo > options.halo;
+  if (out.sharpened) {
     out.effects.push_back(
         {"sharpening halos",
          fmt::format("edges overshoot by {:.1f} % of their step",
                      100.0 * signs.halo),
-         "the tag is located by its border's midlines and each dot by the "
-         "centroid of its coverage in a window about it, which halos "
-         "symmetric about an edge or a dot do not move"});
+         "the tag is located by its border's midlines, which halos symmetric "
+         "about an edge do not move, and each dot by the centroid of its "
+         "codes rather than of the light they name: sharpening is linear in "
+         "the codes, so it leaves their centroid where it was"});
   }
   if (std::abs(signs.edge_shift_px) > options.edge_shift_px) {
     out.effects.push_back(

@@ -55,7 +55,10 @@ struct CameraProcessing {
   int frames = 0;         // frames whose border gave the signs
   TagEdgeSigns signs;     // each the median over those frames
   std::vector<ProcessingEffect> effects;  // those above the options' bars
-  RollingShutter rolling_shutter;         // from the registration
+  // Halos above the bar: the codes were sharpened, so the dots are weighed
+  // in codes (DotCentreOptions::weigh_codes).
+  bool sharpened = false;
+  RollingShutter rolling_shutter;  // from the registration
   // One line for a person: the tag border's effects seen by name (or that
   // none was), then its signs.
   std::string Summary() const;

@@ -490,6 +490,11 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   const std::vector<TimeSpan> spans =
       MeasuredSpans(info, options.spans, &frames_wanted);
 
+  // Where the tag shows the codes sharpened, the dots are weighed in codes
+  // (issue 28: sharpening's halos about a sharp edge move the light's
+  // centroid, not the codes').
+  HeadTrackerOptions tracker_options = options.tracker;
+  tracker_options.centre.weigh_codes = m.camera_processing.sharpened;
   ProgressBar progress("measure", frames_wanted, options.progress);
   std::atomic<int64_t> frames_done{0};
   std::vector<SpanMeasurer> measurers;
@@ -498,7 +503,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
     return SpanMeasurer(
         plan, r, mapping, m.mm_per_px,
         measurers.empty()
-            ? HeadTracker(mapping, PlanHeadMarkers(plan), options.tracker)
+            ? HeadTracker(mapping, PlanHeadMarkers(plan), tracker_options)
             : measurers.front().tracker(),
         registrations.Make(), snapshot_times, &frames_done);
   };

@@ -228,6 +228,7 @@ json CameraProcessingJson(const CameraProcessing& p) {
     out["edge_shift_px"] = JsonNumber(p.signs.edge_shift_px);
     out["halo_percent"] = JsonNumber(100.0 * p.signs.halo);
     out["white_ratio_percent"] = JsonNumber(100.0 * p.signs.white_ratio);
+    out["dots_weighed_in"] = p.sharpened ? "codes" : "linear light";
   } else {
     out["why_not"] = p.why_not;
   }

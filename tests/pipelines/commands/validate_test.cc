@@ -771,13 +771,12 @@ TEST_F(ValidateCommandTest, PhoneSharpeningMeetsTheBar) {
   EXPECT_TRUE(Named(check, "a tone curve or filtering"));
 }
 
-// The lens's blur in light, then the phone's S-curve and its sharpening on
-// the codes, at two strengths (two tests, so ctest runs them side by side).
-// Without the lens's blur (no camera is that sharp) the curve and the
-// sharpening together cost the dots' windowed centroids 0.0068 mm: the halo
-// of a pixel-sharp edge is where the window cuts it (docs/measurement.md).
+// The lens's blur in light (none, sharper than any camera, in the first
+// test), then the phone's S-curve and its sharpening on the codes, at two
+// strengths (separate tests, so ctest runs them side by side). Each
+// sharpens: the halos are named and the tag's scale holds to 0.05 %.
 PhoneCheck ValidateCommandTest::CheckPhonePipeline(const PhonePipeline& phone) {
-  return CheckPhoneFormat([&](RenderCommandOptions* r) {
+  const PhoneCheck check = CheckPhoneFormat([&](RenderCommandOptions* r) {
     r->resolution = "1080p";
     r->processing.lens_blur_px = phone.lens_blur_px;
     r->processing.tone_curve = phone.tone_curve;
@@ -786,19 +785,31 @@ PhoneCheck ValidateCommandTest::CheckPhonePipeline(const PhonePipeline& phone) {
     r->processing.temporal_denoise = phone.temporal_denoise;
     if (!phone.bayer.empty()) r->processing.sensor_full_well_e = 6000.0;
   });
+  EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
+  EXPECT_TRUE(Named(check, "sharpening halos"));
+  return check;
+}
+
+// Pixel-sharp edges, curved and sharpened: the light the codes name
+// overshoots and undershoots about each dot's edge unevenly with the pixel
+// grid, which cost the dots weighed in light 0.0068 mm; weighed in codes,
+// as the halos have them (docs/measurement.md), 0.0042 mm.
+TEST_F(ValidateCommandTest,
+       PhoneCurveAndSharpeningOnPixelSharpEdgesMeetTheBar) {
+  // No lens blur, S-curve 0.6, sharpening 1.5 px x 1.0, no colour filter,
+  // no noise reduction.
+  CheckPhonePipeline({0.0, 0.6, "1.5,1.0", "", 0.0});
 }
 
 // The milder strength, with the phone's temporal noise reduction (each
 // frame blended with the last where little moves).
 TEST_F(ValidateCommandTest,
        PhoneBlurCurveSharpeningAndNoiseReductionMeetTheBar) {
-  const PhoneCheck check = CheckPhonePipeline({.lens_blur_px = 0.6,
-                                               .tone_curve = 0.6,
-                                               .sharpen = "1.5,1.0",
-                                               .bayer = "",
-                                               .temporal_denoise = 0.5});
-  EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
-  EXPECT_TRUE(Named(check, "sharpening halos"));
+  CheckPhonePipeline({.lens_blur_px = 0.6,
+                      .tone_curve = 0.6,
+                      .sharpen = "1.5,1.0",
+                      .bayer = "",
+                      .temporal_denoise = 0.5});
 }
 
 // The stronger one through an RGGB Bayer sensor with raw shot and read
@@ -810,8 +821,6 @@ TEST_F(ValidateCommandTest, PhoneBayerBlurCurveAndSharpeningMeetTheBar) {
                                                .sharpen = "1.0,1.5",
                                                .bayer = "bilinear",
                                                .temporal_denoise = 0.0});
-  EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
-  EXPECT_TRUE(Named(check, "sharpening halos"));
   EXPECT_TRUE(Named(check, "a tone curve or filtering"));
 }
 

@@ -47,6 +47,13 @@ TEST(CameraProcessing, NamesEachSignAboveItsBar) {
   EXPECT_EQ(names({0.0, 1.01 * options.halo, 0.0}),
             std::vector<std::string>{halos});
   EXPECT_TRUE(names({0.0, 0.99 * options.halo, 0.0}).empty());
+  // Halos, and only they, have the dots weighed in codes.
+  EXPECT_TRUE(
+      DescribeCameraProcessing({{0.0, 1.01 * options.halo, 0.0}}, options)
+          .sharpened);
+  EXPECT_FALSE(
+      DescribeCameraProcessing({{0.2, 0.99 * options.halo, 0.03}}, options)
+          .sharpened);
   // Toward either side.
   EXPECT_EQ(names({-1.01 * options.edge_shift_px, 0.0, 0.0}),
             std::vector<std::string>{curve});
