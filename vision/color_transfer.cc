@@ -106,6 +106,10 @@ Eigen::Matrix3d Bt709FromBt2020() {
   return kMatrix;
 }
 
+double BlackLevel(const LumaEncoding& encoding) {
+  return encoding.full_range ? 0.0 : 16.0;
+}
+
 const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
                                           int depth) {
   CV_Assert(depth == CV_8U || depth == CV_16U);
@@ -119,7 +123,7 @@ const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
     // Limited range: black at 16, white at 235 in 8-bit levels, whatever
     // the depth (deeper luma is scaled to fill 16 bits, luma.h).
     const double per_level = codes / 256.0;
-    const double black = encoding.full_range ? 0.0 : 16.0 * per_level;
+    const double black = BlackLevel(encoding) * per_level;
     const double white = encoding.full_range ? codes - 1.0 : 235.0 * per_level;
     const double sdr_white = ReferenceWhiteLinear(encoding.transfer);
     std::vector<float>& table = tables[key];

@@ -69,6 +69,10 @@ struct LumaEncoding {
   bool full_range = true;  // images (PNG, JPEG) are full range
 };
 
+// Black's code in 8-bit levels: 0 in full range, 16 in limited range (at
+// any depth, scaled with it: luma.h fills 16 bits).
+double BlackLevel(const LumaEncoding& encoding);
+
 // Linear light per luma code, in 8-bit levels of SDR white (0 at black, 255
 // at BT.2408's reference white, so thresholds mean the same in SDR and HDR;
 // HDR highlights go above): one entry per code of CV_8U (256) or CV_16U (65536)

@@ -51,7 +51,7 @@ void GatherBox(const cv::Mat& luma, const Eigen::Vector2d& c, double window,
         LinearLumaTable(encoding, cv::DataType<T>::depth);
     // Codes from black (limited range's 16), so that lighting scales a
     // dot's code and its background's alike, as it does their light.
-    const double black = encoding.full_range ? 0.0 : 16.0;
+    const double black = BlackLevel(encoding);
     for (int y = y0; y <= y1; ++y) {
       const T* row = luma.ptr<T>(y);
       const double dy = y - c.y();

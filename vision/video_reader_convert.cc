@@ -134,7 +134,7 @@ double VideoReader::State::HdrWhiteOf(const cv::Mat& first_luma) const {
     above += histogram[bin];
   }
   const double code16 = bin * 64.0;  // the bin's bottom: never above it
-  const double black = info.full_range ? 0.0 : 16.0 * 256.0;
+  const double black = BlackLevel(info.luma_encoding()) * 256.0;
   const double white = info.full_range ? 65535.0 : 235.0 * 256.0;
   const double bright =
       ToLinear(info.encoding.transfer, (code16 - black) / (white - black));
