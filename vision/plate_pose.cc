@@ -39,19 +39,22 @@ void Apparent(const T* pose, const Eigen::Vector2d& local,
 struct PoseResiduals {
   template <typename T>
   bool operator()(const T* pose, T* residual) const {
-    for (size_t i = 0; i < local.size(); ++i) {
+    for (size_t i = 0; i < rest.size(); ++i) {
       T seen[2];
-      Apparent(pose, local[i], camera, seen);
+      Apparent(pose, rest[i] - rest_centre, camera, seen);
       residual[2 * i] = (seen[0] - observed[i].x()) / sigma_mm;
       residual[2 * i + 1] = (seen[1] - observed[i].y()) / sigma_mm;
     }
-    residual[2 * local.size()] = pose[3] / sigma_rad;
-    residual[2 * local.size() + 1] = pose[4] / sigma_rad;
+    residual[2 * rest.size()] = pose[3] / sigma_rad;
+    residual[2 * rest.size() + 1] = pose[4] / sigma_rad;
     return true;
   }
-  int NumResiduals() const { return static_cast<int>(2 * local.size() + 2); }
+  int NumResiduals() const { return static_cast<int>(2 * rest.size() + 2); }
 
-  std::vector<Eigen::Vector2d> local, observed;
+  // The caller's dots, at rest and now, read in place.
+  const std::vector<Eigen::Vector2d>& rest;
+  const std::vector<Eigen::Vector2d>& observed;
+  Eigen::Vector2d rest_centre;
   CameraAbovePlane camera;
   double sigma_mm, sigma_rad;
 };
@@ -101,11 +104,9 @@ PlatePose FitPlatePose(const std::vector<Eigen::Vector2d>& rest_dots_mm,
   Eigen::Matrix<double, kPoseSize, 1> pose;
   pose << centre.x(), centre.y(), 0.0, 0.0, 0.0,
       std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
-  PoseResiduals residuals{
-      {}, dots_mm, camera, options.dot_sigma_mm, options.tilt_prior_rad};
-  for (const Eigen::Vector2d& rest : rest_dots_mm) {
-    residuals.local.emplace_back(rest - rest_centre);
-  }
+  const PoseResiduals residuals{rest_dots_mm,         dots_mm,
+                                rest_centre,          camera,
+                                options.dot_sigma_mm, options.tilt_prior_rad};
   using Function = ceres::TinySolverAutoDiffFunction<PoseResiduals,
                                                      Eigen::Dynamic, kPoseSize>;
   const Function function(residuals);
