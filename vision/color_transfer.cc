@@ -113,22 +113,28 @@ double BlackLevel(const LumaEncoding& encoding) {
 const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
                                           int depth) {
   CV_Assert(depth == CV_8U || depth == CV_16U);
-  constexpr int kTransfers = 3;
-  static std::array<std::once_flag, kTransfers * 4> built;
-  static std::array<std::vector<float>, kTransfers * 4> tables;
-  const int key = static_cast<int>(encoding.transfer) * 4 +
-                  (encoding.full_range ? 2 : 0) + (depth == CV_16U ? 1 : 0);
+  const int bits = depth == CV_8U ? 8 : encoding.deep_bits;
+  CV_Assert(bits >= 8 && bits <= 16);
+  constexpr int kTransfers = 3, kBitCounts = 9;  // 8 to 16 bits
+  static std::array<std::once_flag, kTransfers * 2 * kBitCounts> built;
+  static std::array<std::vector<float>, kTransfers * 2 * kBitCounts> tables;
+  const int key = (static_cast<int>(encoding.transfer) * 2 +
+                   (encoding.full_range ? 1 : 0)) *
+                      kBitCounts +
+                  bits - 8;
   std::call_once(built[key], [&] {
-    const int codes = depth == CV_16U ? 65536 : 256;
+    const int codes = 1 << bits;
     // Limited range: black at 16, white at 235 in 8-bit levels, whatever
-    // the depth (deeper luma is scaled to fill 16 bits, luma.h).
+    // the depth (BT.2100: scaled by 2^(bits - 8)).
     const double per_level = codes / 256.0;
     const double black = BlackLevel(encoding) * per_level;
     const double white = encoding.full_range ? codes - 1.0 : 235.0 * per_level;
     const double sdr_white = ReferenceWhiteLinear(encoding.transfer);
+    // Every 16-bit value has an entry, so a table indexed by a sample is
+    // never read past its end (above 2^bits the curve runs on).
     std::vector<float>& table = tables[key];
-    table.resize(codes);
-    for (int i = 0; i < codes; ++i) {
+    table.resize(depth == CV_8U ? 256 : 65536);
+    for (int i = 0; i < static_cast<int>(table.size()); ++i) {
       table[i] = static_cast<float>(
           255.0 * ToLinear(encoding.transfer, (i - black) / (white - black)) /
           sdr_white);

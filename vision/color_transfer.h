@@ -61,25 +61,31 @@ class SdrConverter {
   bool mix_ = false;                  // whether the primaries change
 };
 
-// How a luma plane's codes encode light: the transfer, and whether black
-// and white are at the ends of the codes (full range) or at 16 and 235 in
-// 8-bit levels (limited range, the default of video).
+// How a luma plane's codes encode light: the transfer, whether black and
+// white are at the ends of the codes (full range) or at 16 and 235 in 8-bit
+// levels (limited range, the default of video), and how many bits a 16-bit
+// plane's codes have.
 struct LumaEncoding {
   Transfer transfer = Transfer::kSdr;
   bool full_range = true;  // images (PNG, JPEG) are full range
+  // The bits of CV_16UC1 luma's codes (vision/luma.h): 16 where they fill
+  // the range (renders, 16-bit images), the video's depth where they are
+  // read as decoded (10 for a phone's HDR video: codes 0-1023). 8-bit luma
+  // ignores it.
+  int deep_bits = 16;
 };
 
 // Black's code in 8-bit levels: 0 in full range, 16 in limited range (at
-// any depth, scaled with it: luma.h fills 16 bits).
+// any depth, scaled with it).
 double BlackLevel(const LumaEncoding& encoding);
 
 // Linear light per luma code, in 8-bit levels of SDR white (0 at black, 255
 // at BT.2408's reference white, so thresholds mean the same in SDR and HDR;
-// HDR highlights go above): one entry per code of CV_8U (256) or CV_16U (65536)
-// luma (vision/luma.h). A lens blurs light, not codes, so sub-pixel edges are
-// located in linear light; for grey (a tag's ink and paper) luma is the
-// channels' code, so its linearisation is the grey's light. Built once per
-// encoding and depth; thread-safe.
+// HDR highlights go above): one entry per code of CV_8U (256) or CV_16U
+// (2^deep_bits) luma (vision/luma.h). A lens blurs light, not codes, so
+// sub-pixel edges are located in linear light; for grey (a tag's ink and paper)
+// luma is the channels' code, so its linearisation is the grey's light. Built
+// once per encoding and depth; thread-safe.
 const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
                                           int depth);
 

@@ -52,6 +52,7 @@ void GatherBox(const cv::Mat& luma, const Eigen::Vector2d& c, double window,
     // Codes from black (limited range's 16), so that lighting scales a
     // dot's code and its background's alike, as it does their light.
     const double black = BlackLevel(encoding);
+    const double levels_per_code = LevelsPerCode(luma.depth(), encoding);
     for (int y = y0; y <= y1; ++y) {
       const T* row = luma.ptr<T>(y);
       const double dy = y - c.y();
@@ -61,7 +62,7 @@ void GatherBox(const cv::Mat& luma, const Eigen::Vector2d& c, double window,
         if (d2 > outer_sq) continue;
         const BoxPixel p{
             dx, dy, d2,
-            weigh_codes ? kLevelsPerCode<T> * row[x] - black : linear[row[x]]};
+            weigh_codes ? levels_per_code * row[x] - black : linear[row[x]]};
         if (d2 >= window_sq) ring->push_back(p);
         if (d2 < inside_sq) inside->push_back(p);
       }

@@ -6,14 +6,17 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "vision/color_transfer.h"
+
 namespace softbench {
 
 // Luma comes as CV_8UC1 (8-bit video, images) or CV_16UC1 (10 and 12-bit
-// video, scaled to fill 16 bits; VideoFrame::luma). Measurements read it in
-// 8-bit levels, so their thresholds mean the same for both, and keep the
-// deeper video's fractions of a level.
-template <typename T>
-constexpr double kLevelsPerCode = sizeof(T) == 1 ? 1.0 : 1.0 / 256.0;
+// video as decoded, 16-bit renders; LumaEncoding::deep_bits says which).
+// Measurements read it in 8-bit levels, so their thresholds mean the same
+// for every depth, and keep the deeper video's fractions of a level.
+inline double LevelsPerCode(int depth, const LumaEncoding& encoding) {
+  return depth == CV_8U ? 1.0 : std::ldexp(1.0, 8 - encoding.deep_bits);
+}
 
 // Calls `f` with a value of the luma's sample type (uint8_t or uint16_t), for
 // code templated on it.
@@ -38,27 +41,39 @@ double InterpolateLuma(const cv::Mat& luma, double u, double v, F value) {
          b * ((1 - a) * value(r1[0]) + a * value(r1[1]));
 }
 
-// Bilinear sample of luma of type T at (u, v) in 8-bit levels; -1 outside.
+// Bilinear sample of luma of type T at (u, v) in 8-bit levels, its codes
+// `levels_per_code` levels each (LevelsPerCode); -1 outside.
 template <typename T>
-double SampleLuma(const cv::Mat& luma, double u, double v) {
+double SampleLuma(const cv::Mat& luma, double u, double v,
+                  double levels_per_code) {
   return InterpolateLuma<T>(luma, u, v,
-                            [](T code) { return kLevelsPerCode<T> * code; });
+                            [&](T code) { return levels_per_code * code; });
 }
 
 // Luma as 8 bits (a view when it is already), for detectors that take only
 // 8 bits (libapriltag's quads, OpenCV's checkerboard finder); measurement
 // refines on the full-precision luma afterwards.
-inline cv::Mat LumaAs8Bit(const cv::Mat& luma) {
+inline cv::Mat LumaAs8Bit(const cv::Mat& luma, const LumaEncoding& encoding) {
   if (luma.depth() == CV_8U) return luma;
   cv::Mat out;
-  luma.convertTo(out, CV_8U, 1.0 / 256.0);
+  luma.convertTo(out, CV_8U, LevelsPerCode(luma.depth(), encoding));
+  return out;
+}
+
+// Luma whose 16-bit codes fill 16 bits (a view when they do already), for
+// code that reads deeper luma that way (OpenCV's checkerboard refinement).
+inline cv::Mat LumaFilling16Bits(const cv::Mat& luma,
+                                 const LumaEncoding& encoding) {
+  if (luma.depth() == CV_8U || encoding.deep_bits == 16) return luma;
+  cv::Mat out;
+  luma.convertTo(out, CV_16U, std::ldexp(1.0, 16 - encoding.deep_bits));
   return out;
 }
 
 // Luma as float in 8-bit levels.
-inline cv::Mat LumaAsFloat(const cv::Mat& luma) {
+inline cv::Mat LumaAsFloat(const cv::Mat& luma, const LumaEncoding& encoding) {
   cv::Mat out;
-  luma.convertTo(out, CV_32F, luma.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
+  luma.convertTo(out, CV_32F, LevelsPerCode(luma.depth(), encoding));
   return out;
 }
 

@@ -35,11 +35,13 @@ struct Candidate {
   float xx, yy, xy;
 };
 
-// The strongest point of each cell of the frame that `allowed` allows whole
-// and that has at least `min_energy`. Keeps patches a template and a bump
+// The strongest point of each cell of the frame (codes in `encoding`) that
+// `allowed` allows whole and that has at least `min_energy`. Keeps patches a
+// template and a bump
 // (`border`) away from the frame's edges, which also keeps every sum here
 // away from them: the box reaches h rows and the slopes one more.
 std::vector<Candidate> StrongestPerCell(const cv::Mat& luma,
+                                        const LumaEncoding& encoding,
                                         const cv::Mat& allowed, int h, int cell,
                                         int border, double min_energy) {
   const int side = 2 * h + 1;
@@ -54,7 +56,8 @@ std::vector<Candidate> StrongestPerCell(const cv::Mat& luma,
   cv::Mat image, gx, gy, product, xx, yy, xy;
   for (int y0 = border; y0 + cell <= luma.rows - border; y0 += cell) {
     const cv::Range slopes(y0 - h, y0 + cell + h), band(h, h + cell);
-    image = LumaAsFloat(luma.rowRange(slopes.start - 1, slopes.end + 1));
+    image =
+        LumaAsFloat(luma.rowRange(slopes.start - 1, slopes.end + 1), encoding);
     const cv::Mat inner = image.rowRange(1, image.rows - 1);
     cv::Sobel(inner, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(inner, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
@@ -104,8 +107,9 @@ StaticPatches::StaticPatches(const cv::Mat& luma, const cv::Mat& allowed,
   const double min_energy =
       options.min_slope_dn_per_px * options.min_slope_dn_per_px * side * side;
   const int border = 2 * h + 8;  // a template and a bump
-  std::vector<Candidate> candidates = StrongestPerCell(
-      luma, allowed, h, static_cast<int>(options.cell_px), border, min_energy);
+  std::vector<Candidate> candidates =
+      StrongestPerCell(luma, options.luma_encoding, allowed, h,
+                       static_cast<int>(options.cell_px), border, min_energy);
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& a, const Candidate& b) {
               return a.strength > b.strength;

@@ -45,6 +45,7 @@ constexpr int kMaxBorderFits = 4;
 struct LinearRegion {
   cv::Mat light;     // CV_32FC1, a view into the buffer it was converted in
   cv::Point origin;  // the region's top-left pixel in the frame
+  double levels_per_code = 1.0;  // of the frame's codes (LevelsPerCode)
 };
 
 // The region around corners known to a few pixels: the border's profiles
@@ -54,8 +55,7 @@ struct LinearRegion {
 // chunks) each time.
 LinearRegion LinearRegionAround(const cv::Mat& gray,
                                 const std::array<Eigen::Vector2d, 4>& corners,
-                                double reach_px,
-                                const std::vector<float>& linear,
+                                double reach_px, const LumaEncoding& encoding,
                                 cv::Mat* buffer) {
   // Two pixels more: a bilinear sample reads the pixel after its own.
   const cv::Rect box =
@@ -66,8 +66,8 @@ LinearRegion LinearRegionAround(const cv::Mat& gray,
                    std::max(buffer->cols, box.width), CV_32FC1);
   }
   cv::Mat light = (*buffer)(cv::Rect(0, 0, box.width, box.height));
-  LinearLuma(gray(box), linear, &light);
-  return {light, box.tl()};
+  LinearLuma(gray(box), LinearLumaTable(encoding, gray.depth()), &light);
+  return {light, box.tl(), LevelsPerCode(gray.depth(), encoding)};
 }
 
 // A profile across an edge: samples every kStep at offsets s from -d to d
@@ -193,8 +193,9 @@ std::optional<EdgeSample> EdgePoint(const cv::Mat& gray,
            q.y() + 1 < gray.rows;
   };
   if (!in_image(inside) || !in_image(outside) ||
-      SampleLuma<T>(gray, outside.x(), outside.y()) -
-              SampleLuma<T>(gray, inside.x(), inside.y()) <
+      SampleLuma<T>(gray, outside.x(), outside.y(), region.levels_per_code) -
+              SampleLuma<T>(gray, inside.x(), inside.y(),
+                            region.levels_per_code) <
           40.0) {
     return std::nullopt;
   }
@@ -597,9 +598,9 @@ std::optional<std::array<BorderSide, 4>> FitBorder(
   // One buffer per thread, reused for every fit (a tag is fitted in every
   // frame).
   thread_local cv::Mat buffer;
-  const LinearRegion region = LinearRegionAround(
-      gray, approximate, options.edge_half_width_px,
-      LinearLumaTable(options.luma_encoding, gray.depth()), &buffer);
+  const LinearRegion region =
+      LinearRegionAround(gray, approximate, options.edge_half_width_px,
+                         options.luma_encoding, &buffer);
   std::array<BorderSide, 4> sides;
   for (int c = 0; c < 4; ++c) {
     auto side = FitBorderSide(gray, region, approximate[c],
@@ -649,7 +650,7 @@ TagDetector::~TagDetector() = default;
 
 std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) const {
   // libapriltag finds quads in 8 bits; the edges are fitted at full depth.
-  const cv::Mat gray8 = LumaAs8Bit(gray);
+  const cv::Mat gray8 = LumaAs8Bit(gray, options_.luma_encoding);
   image_u8_t image{gray8.cols, gray8.rows, static_cast<int32_t>(gray8.step),
                    gray8.data};
   zarray_t* detections = apriltag_detector_detect(apriltag_->detector, &image);

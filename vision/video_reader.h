@@ -13,10 +13,10 @@ namespace softbench {
 
 // One decoded frame. `luma` is the full-resolution Y plane (the channel that
 // locates edges; chroma is subsampled in 4:2:0 video) at the video's full
-// precision: CV_8UC1 for 8-bit video, CV_16UC1 scaled to the full 16-bit
-// range for deeper video (vision/luma.h reads either). `bgr` is the colour
-// image converted to SDR BT.709 (color_transfer.h), so colour bounds tuned on
-// any footage hold on HDR footage too. Each is filled only when
+// precision: CV_8UC1 for 8-bit video, CV_16UC1 with its codes as decoded for
+// deeper video (VideoInfo::luma_code_bits; vision/luma.h reads either). `bgr`
+// is the colour image converted to SDR BT.709 (color_transfer.h), so colour
+// bounds tuned on any footage hold on HDR footage too. Each is filled only when
 // VideoReaderOptions asks for it. For an unrotated 8-bit video `luma` is a
 // view of the decoder's buffer, valid until the reader's next Read() or
 // SeekTo(): clone() it to keep it.
@@ -55,6 +55,9 @@ struct VideoInfo {
   // ("4:2:0"), the range and the colours ("HLG BT.2020").
   std::string pixel_format;
   int bit_depth = 8;
+  // The bits of VideoFrame::luma's codes: the depth, or 16 where the format
+  // stores its samples in the high bits of 16 (P010).
+  int luma_code_bits = 8;
   std::string chroma;
   bool full_range = false;
   ColorEncoding encoding;
@@ -78,7 +81,10 @@ struct VideoInfo {
   // 29.98 fps variable, rotated 90°".
   std::string Description() const;
   // How the luma's codes encode light: transfer and range.
-  LumaEncoding luma_encoding() const { return {encoding.transfer, full_range}; }
+  LumaEncoding luma_encoding() const {
+    return {encoding.transfer, full_range,
+            luma_code_bits > 8 ? luma_code_bits : 16};
+  }
 };
 
 // The one video reader of softbench (MP4/MOV with H.264 or HEVC, anything

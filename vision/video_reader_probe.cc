@@ -183,7 +183,7 @@ void VideoReader::State::CheckPixelFormat() {
                     (desc->name[0] == 'y' && desc->name[1] == 'u' &&
                      desc->name[2] == 'v' && desc->name[3] == 'j');
   if (desc->comp[0].step == 2) {
-    luma_shift = 16 - desc->comp[0].depth - desc->comp[0].shift;
+    info.luma_code_bits = desc->comp[0].depth + desc->comp[0].shift;
   }
   info.encoding = EncodingOf(*st->codecpar);
 }

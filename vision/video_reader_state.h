@@ -50,9 +50,7 @@ struct VideoReader::State {
   // container has none): frames are numbered by their place in it.
   std::vector<int64_t> frame_pts;
   const AVPixFmtDescriptor* desc = nullptr;
-  // Luma of deeper video: samples shifted left by this fill 16 bits.
-  int luma_shift = 0;
-  cv::Mat luma_upright;  // reused: rotated or shifted luma
+  cv::Mat luma_upright;  // reused: rotated luma
   // Colour of anything but SDR BT.709 goes through SDR (color_transfer.h).
   std::optional<SdrConverter> to_sdr;
   std::optional<double> hdr_white;  // HdrWhite(), once measured
@@ -145,8 +143,8 @@ struct VideoReader::State {
   void CheckFormat() const;
 
   // The full-precision luma of the decoded frame, upright (see
-  // VideoFrame::luma): a view of the plane for unrotated 8-bit and 16-bit
-  // video, else turned (OpenCV's tiled transpose) and shifted to 16 bits.
+  // VideoFrame::luma): a view of the plane for unrotated video, else turned
+  // (OpenCV's tiled transpose).
   cv::Mat Luma();
 
   // Back to the first frame, as if just opened.

@@ -9,6 +9,7 @@
 #include "util/input_error.h"
 #include "util/progress.h"
 #include "vision/image_codec.h"
+#include "vision/luma.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -77,7 +78,8 @@ BoardViews BoardViewsFromVideo(const std::string& video_path,
     progress.Update(frame.index + 1);
     if (frame.time_s + 1e-9 < next_s) continue;
     next_s = frame.time_s + options.every_s;
-    AddView(frame.luma, fmt::format("{} at t = {:.3f} s", source, frame.time_s),
+    AddView(LumaFilling16Bits(frame.luma, reader.info().luma_encoding()),
+            fmt::format("{} at t = {:.3f} s", source, frame.time_s),
             fmt::format("t = {:.3f} s", frame.time_s), options, &views);
   }
   progress.Finish();

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
+#include <vector>
+
+#include "vision/luma.h"
 
 namespace softbench {
 namespace {
@@ -96,6 +99,39 @@ TEST(ColorTransfer, WhiteLevelScalesTheLight) {
   // With the white four times brighter, the grey is a quarter of white.
   EXPECT_NEAR(SdrConverter(hlg, 4 * white).Convert(grey).at<cv::Vec3b>(0)[1],
               255 * FromLinear(Transfer::kSdr, 0.25), 1);
+}
+
+}  // namespace
+}  // namespace softbench
+
+namespace softbench {
+namespace {
+
+// Deeper video's luma is read as decoded (LumaEncoding::deep_bits): its
+// light and its levels must be those of the same codes scaled to fill 16
+// bits, exactly, in limited range (BT.2100 scales black and white by 2^(bits
+// - 8)); in full range white is the top code at every depth. Every 16-bit
+// value has an entry, so no sample reads past the table.
+TEST(LinearLumaTable, ReadsDecodedCodesAsTheirSixteenBitScaling) {
+  for (const Transfer t : kTransfers) {
+    const std::vector<float>& filled = LinearLumaTable({t, false, 16}, CV_16U);
+    for (const int bits : {10, 12}) {
+      const LumaEncoding decoded{t, false, bits};
+      const std::vector<float>& table = LinearLumaTable(decoded, CV_16U);
+      ASSERT_EQ(table.size(), 65536u);
+      const int shift = 16 - bits;
+      for (int code = 0; code < (1 << bits); ++code) {
+        ASSERT_EQ(table[code], filled[code << shift])
+            << static_cast<int>(t) << " " << bits << " bits, code " << code;
+        ASSERT_EQ(LevelsPerCode(CV_16U, decoded) * code,
+                  LevelsPerCode(CV_16U, {t, false, 16}) * (code << shift));
+      }
+      const float white =
+          LinearLumaTable({t, true, bits}, CV_16U)[(1 << bits) - 1];
+      EXPECT_FLOAT_EQ(white, LinearLumaTable({t, true, 16}, CV_16U)[65535]);
+      EXPECT_FLOAT_EQ(white, LinearLumaTable({t, true}, CV_8U)[255]);
+    }
+  }
 }
 
 }  // namespace

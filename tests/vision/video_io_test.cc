@@ -12,6 +12,7 @@
 #include "tests/support/input_error_matchers.h"
 #include "tests/support/scratch_directory.h"
 #include "util/input_error.h"
+#include "vision/luma.h"
 #include "vision/video_reader.h"
 #include "vision/video_writer.h"
 
@@ -481,7 +482,8 @@ TEST(VideoIo, EveryPhoneAndCameraFormatReadsBackItsColours) {
 
 // Deeper video keeps luma between 8-bit levels: two patches half a level
 // apart read half a level apart (limited range: 219 / 255 of it), where
-// 8-bit luma would round both to one level or a whole one apart.
+// 8-bit luma would round both to one level or a whole one apart. Its codes
+// are read as decoded, 10 bits, and the encoding says so.
 TEST(VideoIo, DeepLumaKeepsFractionsOfAnEightBitLevel) {
   VideoWriterOptions options;
   options.bit_depth = 10;
@@ -500,8 +502,13 @@ TEST(VideoIo, DeepLumaKeepsFractionsOfAnEightBitLevel) {
   VideoFrame frame;
   ASSERT_TRUE(reader.Read(&frame));
   ASSERT_EQ(frame.luma.type(), CV_16UC1);
-  const double left = frame.luma.at<uint16_t>(32, 32) / 256.0;
-  const double right = frame.luma.at<uint16_t>(32, 96) / 256.0;
+  EXPECT_EQ(reader.info().luma_code_bits, 10);
+  double highest = 0.0;
+  cv::minMaxLoc(frame.luma, nullptr, &highest);
+  EXPECT_LT(highest, 1024);
+  const double levels = LevelsPerCode(CV_16U, reader.info().luma_encoding());
+  const double left = frame.luma.at<uint16_t>(32, 32) * levels;
+  const double right = frame.luma.at<uint16_t>(32, 96) * levels;
   EXPECT_NEAR(right - left, 0.5 * 219 / 255, 0.15);
   EXPECT_NEAR(left, 16 + 100.0 * 219 / 255, 0.5);
 }
