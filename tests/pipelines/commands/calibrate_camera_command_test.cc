@@ -2,12 +2,15 @@
 // suite: it needs no bench clip).
 #include "pipelines/commands/calibrate_camera_command.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "pipelines/measurement/board_views.h"
@@ -15,6 +18,7 @@
 #include "tests/support/scratch_directory.h"
 #include "tests/vision/board_images.h"
 #include "util/input_error.h"
+#include "vision/video_writer.h"
 
 namespace softbench {
 namespace {
@@ -84,6 +88,50 @@ TEST_F(CalibrateCameraCommandTest,
       InputErrorOf([&] { RunCalibrateCamera(options, out); });
   EXPECT_NE(message.find("give --board 9x6"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(options.output_path));
+}
+
+// A 10-bit video (a phone's HDR default) of the boards gives the views the
+// same boards' 8-bit photos give: its luma, read as decoded (codes 0-1023),
+// reaches OpenCV's board finder scaled to fill 16 bits.
+TEST_F(CalibrateCameraCommandTest, TenBitVideoGivesThePhotosViews) {
+  const CameraIntrinsics k =
+      CameraIntrinsics::FromEquivalentFocalLength(52.0, 640, 360);
+  const BoardRenderer boards(k, 9, 6, 20.0);
+  fs::create_directories(Path("photos"));
+  VideoWriterOptions video;
+  video.bit_depth = 10;
+  video.crf = 0;  // lossless: the video's frames are the photos
+  video.fps = 2.0;
+  video.full_range = true;
+  VideoWriter writer(Path("boards.mp4"), 640, 360, video);
+  int seed = 1;
+  for (const Camera& view : BoardViews(k, 600.0)) {
+    // A dim print under dim light: squares 100 and 160 of 255.
+    cv::Mat grey;
+    boards.Render(view, 0.0, seed).convertTo(grey, CV_8U, 60.0 / 255, 100);
+    // Named in the video's order (images are read in name order).
+    cv::imwrite(Path(fmt::format("photos/view{:02d}.png", seed)), grey);
+    cv::Mat bgr;
+    cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+    writer.Write(bgr);
+    ++seed;
+  }
+  writer.Close();
+  const BoardViewsOptions options{{9, 6, 20.0}, 0.5, false};
+  const auto photos = BoardViewsFromImages(Path("photos"), options);
+  const auto frames = BoardViewsFromVideo(Path("boards.mp4"), options);
+  ASSERT_EQ(photos.corners.size(), static_cast<size_t>(seed - 1));
+  ASSERT_EQ(frames.corners.size(), photos.corners.size());
+  double worst_px = 0.0;
+  for (size_t v = 0; v < photos.corners.size(); ++v) {
+    ASSERT_EQ(frames.corners[v].size(), photos.corners[v].size()) << v;
+    for (size_t c = 0; c < photos.corners[v].size(); ++c) {
+      worst_px = std::max<double>(
+          worst_px, cv::norm(frames.corners[v][c] - photos.corners[v][c]));
+    }
+  }
+  // The video's 4:2:0 luma of grey is the photos' grey to within a level.
+  EXPECT_LT(worst_px, 0.05);
 }
 
 // OpenCV's own sample photos (Debian's opencv-doc): 13 views of a 9 x 6
