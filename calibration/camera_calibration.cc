@@ -39,8 +39,8 @@ std::vector<cv::Point2f> FindBoardCorners(const cv::Mat& gray,
   const cv::Size pattern(options.corners_x, options.corners_y);
   // FAST_CHECK turns away a view without a board in milliseconds (a
   // video of anything else would otherwise take minutes). OpenCV finds the
-  // board in 8 bits; deeper luma (10 and 12-bit video,
-  // filling 16 bits) is refined at its full precision.
+  // board in 8 bits; deeper luma (10 and 12-bit video, scaled to fill 16
+  // bits: LumaFilling16Bits) is refined at its full precision.
   cv::Mat gray8 = gray, fine = gray;
   if (gray.depth() == CV_16U) {
     gray.convertTo(gray8, CV_8U, 1.0 / 256.0);

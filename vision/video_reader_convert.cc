@@ -1,4 +1,4 @@
-// VideoReader's conversions: luma upright and in 16 bits, colour through
+// VideoReader's conversions: luma upright at its full depth, colour through
 // SDR, and regions converted from the planes without the whole frame.
 #include <fmt/format.h>
 

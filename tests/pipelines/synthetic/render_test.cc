@@ -336,7 +336,8 @@ double TagSize(const std::vector<Eigen::Vector2d>& corners) {
 }
 
 // Luma of a grey-on-grey frame (any channel: the tag is grey) in `encoding`,
-// as a video of that encoding decodes it (CV_16UC1 filling 16 bits).
+// as a 16-bit video of that encoding decodes it (CV_16UC1 filling 16 bits,
+// LumaEncoding's default deep_bits).
 cv::Mat LumaIn(const cv::Mat& bgr_sdr, const LumaEncoding& encoding) {
   const cv::Mat coded = ConvertFromSdr(
       bgr_sdr, ColorEncoding{encoding.transfer, Primaries::kBt709});
