@@ -113,8 +113,9 @@ double BlackLevel(const LumaEncoding& encoding) {
 const std::vector<float>& LinearLumaTable(const LumaEncoding& encoding,
                                           int depth) {
   CV_Assert(depth == CV_8U || depth == CV_16U);
+  // 16-bit luma has 9 to 16 bits: 8 would share the 8-bit table's key.
   const int bits = depth == CV_8U ? 8 : encoding.deep_bits;
-  CV_Assert(bits >= 8 && bits <= 16);
+  CV_Assert(depth == CV_8U || (bits > 8 && bits <= 16));
   constexpr int kTransfers = 3, kBitCounts = 9;  // 8 to 16 bits
   static std::array<std::once_flag, kTransfers * 2 * kBitCounts> built;
   static std::array<std::vector<float>, kTransfers * 2 * kBitCounts> tables;
