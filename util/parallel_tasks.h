@@ -7,7 +7,8 @@ namespace softbench {
 
 // Runs task(0) ... task(count - 1) on `threads` worker threads (0: one per
 // core), each index exactly once, while the calling thread calls `poll` about
-// ten times a second (progress bars). The first exception a task throws stops
+// ten times a second (progress bars); returns as soon as the last task has
+// finished, not at the next poll. The first exception a task throws stops
 // the remaining tasks from starting and is rethrown here once all workers
 // have finished.
 void RunParallelTasks(int count, int threads,
