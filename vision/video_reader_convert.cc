@@ -108,15 +108,23 @@ cv::Mat VideoReader::State::Luma() {
 
 double VideoReader::State::HdrWhiteOf(const cv::Mat& first_luma) const {
   const double reference = ReferenceWhiteLinear(info.encoding.transfer);
-  cv::Mat luma = LumaFilling16Bits(first_luma, info.luma_encoding());
-  if (luma.depth() == CV_8U) luma.convertTo(luma, CV_16U, 256);
+  // 1024 bins of 64 levels of the codes scaled to 16 bits, counted in
+  // place: a scaled copy of the frame first made it 18 ms instead of 2 ms
+  // at 10-bit 1080p, on the thread that measures, before the first frame.
+  const int to_16_bits =
+      first_luma.depth() == CV_8U ? 8 : 16 - info.luma_encoding().deep_bits;
   std::vector<int> histogram(1024, 0);
-  for (int v = 0; v < luma.rows; ++v) {
-    const auto* row = luma.ptr<uint16_t>(v);
-    for (int u = 0; u < luma.cols; ++u) ++histogram[row[u] >> 6];
-  }
+  WithLumaType(first_luma, [&](auto type) {
+    using T = decltype(type);
+    for (int v = 0; v < first_luma.rows; ++v) {
+      const T* row = first_luma.ptr<T>(v);
+      for (int u = 0; u < first_luma.cols; ++u) {
+        ++histogram[(row[u] << to_16_bits) >> 6];
+      }
+    }
+  });
   int64_t above = 0, bin = 1023;
-  const int64_t wanted = luma.total() / 100;
+  const int64_t wanted = first_luma.total() / 100;
   for (; bin > 0 && above + histogram[bin] <= wanted; --bin) {
     above += histogram[bin];
   }
