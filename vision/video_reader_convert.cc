@@ -111,6 +111,8 @@ double VideoReader::State::HdrWhiteOf(const cv::Mat& first_luma) const {
   // 1024 bins of 64 levels of the codes scaled to 16 bits, counted in
   // place: a scaled copy of the frame first made it 18 ms instead of 2 ms
   // at 10-bit 1080p, on the thread that measures, before the first frame.
+  // A code above its depth (raw video's words are not clipped to it) falls
+  // in the top bin, as the copy's saturation put it.
   const int to_16_bits =
       first_luma.depth() == CV_8U ? 8 : 16 - info.luma_encoding().deep_bits;
   std::vector<int> histogram(1024, 0);
@@ -119,7 +121,7 @@ double VideoReader::State::HdrWhiteOf(const cv::Mat& first_luma) const {
     for (int v = 0; v < first_luma.rows; ++v) {
       const T* row = first_luma.ptr<T>(v);
       for (int u = 0; u < first_luma.cols; ++u) {
-        ++histogram[(row[u] << to_16_bits) >> 6];
+        ++histogram[std::min((row[u] << to_16_bits) >> 6, 1023)];
       }
     }
   });
