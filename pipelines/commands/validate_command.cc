@@ -87,9 +87,15 @@ std::string SummaryText(const VideoValidation& v) {
     for (const ProcessingEffect& e : processing.effects)
       names.push_back(e.name);
     text += fmt::format(
-        "  the camera's processing, seen in the footage: {} (the report's "
-        "Calibration says why none of it moves the measurement)\n",
-        fmt::join(names, "; "));
+        "  the camera's processing, seen in the footage: {} ({})\n",
+        fmt::join(names, "; "),
+        processing.tag_scale_at_risk
+            ? fmt::format("on the tag's cells of {:.1f} px it may move the "
+                          "scale; the report's Calibration says how it is "
+                          "checked and carried",
+                          processing.tag_cell_px)
+            : "the report's Calibration says why none of it moves the "
+              "measurement");
   }
   for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
     if (r.model_errors[h].tests == 0) {

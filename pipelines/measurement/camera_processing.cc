@@ -15,6 +15,12 @@ namespace {
 // The effect NameRollingShutter adds: seen in the registration, not on the
 // tag's border.
 constexpr char kRollingShutterShear[] = "rolling-shutter shear";
+// The effects of processing on the codes, which move the tag's edges.
+constexpr char kSharpeningHalos[] = "sharpening halos";
+constexpr char kCodesCurve[] =
+    "a tone curve or filtering the video's transfer does not describe";
+// An AprilTag's black square is this many cells across.
+constexpr int kTagCellsAcross = 8;
 
 }  // namespace
 
@@ -22,6 +28,7 @@ std::optional<std::string> CameraProcessingOptions::Problem() const {
   if (!(edge_shift_px > 0.0)) return "edge_shift_px must be > 0";
   if (!(halo > 0.0)) return "halo must be > 0";
   if (!(white_ratio > 0.0)) return "white_ratio must be > 0";
+  if (!(min_cell_px >= 0.0)) return "min_cell_px must be >= 0";
   if (auto problem = rolling_shutter.Problem()) {
     return "rolling_shutter: " + *problem;
   }
@@ -37,12 +44,17 @@ std::string CameraProcessing::Summary() const {
   return fmt::format(
       "{} (over {} frames: edges {:.3f} px toward their {} side, halos "
       "{:.1f} % of the step, the white beyond the border {:+.2f} % against "
-      "inside it)",
+      "inside it){}",
       names.empty() ? std::string("no effect of processing seen")
                     : fmt::format("{}", fmt::join(names, "; ")),
       frames, std::abs(signs.edge_shift_px),
       signs.edge_shift_px > 0 ? "bright" : "dark", 100.0 * signs.halo,
-      100.0 * signs.white_ratio);
+      100.0 * signs.white_ratio,
+      tag_scale_at_risk
+          ? fmt::format("; on the tag's cells of {:.1f} px they may move its "
+                        "scale",
+                        tag_cell_px)
+          : "");
 }
 
 CameraProcessing DescribeCameraProcessing(
@@ -69,7 +81,7 @@ CameraProcessing DescribeCameraProcessing(
   out.sharpened = signs.halo > options.halo;
   if (out.sharpened) {
     out.effects.push_back(
-        {"sharpening halos",
+        {kSharpeningHalos,
          fmt::format("edges overshoot by {:.1f} % of their step",
                      100.0 * signs.halo),
          "the tag is located by its border's midlines, which halos symmetric "
@@ -79,7 +91,7 @@ CameraProcessing DescribeCameraProcessing(
   }
   if (std::abs(signs.edge_shift_px) > options.edge_shift_px) {
     out.effects.push_back(
-        {"a tone curve or filtering the video's transfer does not describe",
+        {kCodesCurve,
          fmt::format("every edge sits {:.3f} px toward its {} side, as the "
                      "codes are not the light the transfer names: a phone's "
                      "own tone curve, sharpening or blur applied to the "
@@ -100,6 +112,34 @@ CameraProcessing DescribeCameraProcessing(
          "measured between the two whites"});
   }
   return out;
+}
+
+void NoteTagCells(const std::array<Eigen::Vector2d, 4>& tag_corners,
+                  const CameraProcessingOptions& options,
+                  CameraProcessing* processing) {
+  double side_px = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    side_px += (tag_corners[(c + 1) % 4] - tag_corners[c]).norm() / 4.0;
+  }
+  processing->tag_cell_px = side_px / kTagCellsAcross;
+  const bool codes_processed =
+      processing->sharpened ||
+      std::abs(processing->signs.edge_shift_px) > options.edge_shift_px;
+  processing->tag_scale_at_risk =
+      codes_processed && processing->tag_cell_px < options.min_cell_px;
+  if (!processing->tag_scale_at_risk) return;
+  processing->tag_cells_wanted_px = options.min_cell_px;
+  for (ProcessingEffect& e : processing->effects) {
+    if (e.name != kSharpeningHalos && e.name != kCodesCurve) continue;
+    e.handling += fmt::format(
+        "; but the tag's cells are {:.1f} px in the video, and on cells "
+        "under {:.0f} px the midlines still follow the processing, by as much "
+        "as 0.6 % of the scale as the edges fall on the pixel grid: "
+        "the dots' spacing checks the scale (the layout check), and each "
+        "change's uncertainty carries what it finds; print the tag larger, "
+        "or film it closer, so that its cells are {:.0f} px or more",
+        processing->tag_cell_px, options.min_cell_px, options.min_cell_px);
+  }
 }
 
 void NameRollingShutter(const RollingShutter& shutter,

@@ -1,6 +1,9 @@
 #ifndef SOFTBENCH_PIPELINES_MEASUREMENT_CAMERA_PROCESSING_H_
 #define SOFTBENCH_PIPELINES_MEASUREMENT_CAMERA_PROCESSING_H_
 
+#include <Eigen/Core>
+#include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +35,14 @@ struct CameraProcessingOptions {
   // footage under the renderer's lighting fall-off and vignetting: within
   // 0.8 %; local tone mapping 0.3: 2.1-2.4 %.
   double white_ratio = 0.015;
+  // The tag's cells [px] under which a tone curve or sharpening on the codes
+  // still moves the scale measured from the border's midlines. How far
+  // depends on where the edges fall on the pixel grid: single 720p frames
+  // (11.2 px cells), an S-curve 0.6 then sharpening 1.5 px x 1.0, measured
+  // between -0.51 % and +0.38 % pixel-sharp and -0.21 % and +0.16 % under
+  // 0.6 px of lens blur; 1080p (16.8 px), within 0.071 %
+  // (docs/measurement.md, "The tag located by its border's midlines").
+  double min_cell_px = 15.0;
   // A rolling shutter, measured from the registration's misfits.
   RollingShutterOptions rolling_shutter;
 
@@ -58,9 +69,18 @@ struct CameraProcessing {
   // Halos above the bar: the codes were sharpened, so the dots are weighed
   // in codes (DotCentreOptions::weigh_codes).
   bool sharpened = false;
+  // The tag's cells in the video [px] (its black square's mean side over
+  // its 8 cells); NaN without a tag.
+  double tag_cell_px = std::numeric_limits<double>::quiet_NaN();
+  // The codes were processed (halos or an edge shift above the bars) and
+  // the tag's cells are under CameraProcessingOptions::min_cell_px: the
+  // tag's scale may follow the processing.
+  bool tag_scale_at_risk = false;
+  // CameraProcessingOptions::min_cell_px, when the scale is at risk.
+  double tag_cells_wanted_px = 0.0;
   RollingShutter rolling_shutter;  // from the registration
   // One line for a person: the tag border's effects seen by name (or that
-  // none was), then its signs.
+  // none was), then its signs, and whether they put the tag's scale at risk.
   std::string Summary() const;
 };
 
@@ -69,6 +89,14 @@ struct CameraProcessing {
 CameraProcessing DescribeCameraProcessing(
     const std::vector<TagEdgeSigns>& frames,
     const CameraProcessingOptions& options);
+
+// Keeps the tag's cell size, from its corners in the video (any order
+// around the square), in `processing`; when the codes were processed and
+// the cells are small, marks the tag's scale at risk and says so in the
+// handling of each effect on the codes.
+void NoteTagCells(const std::array<Eigen::Vector2d, 4>& tag_corners,
+                  const CameraProcessingOptions& options,
+                  CameraProcessing* processing);
 
 // Keeps `shutter` in `processing`, and names its shear as an effect when it
 // was seen.

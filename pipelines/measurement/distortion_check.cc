@@ -42,7 +42,8 @@ std::vector<double> Shape(std::vector<double> distances) {
 // Why the dots' spacing and the tag disagree, and what is done about it,
 // for a check that warns.
 std::string Cause(const TestPlan& plan, const DistortionCheck& check,
-                  double spread, const std::string& scale_source) {
+                  double spread, const std::string& scale_source,
+                  const CameraProcessing& processing) {
   const double offset = check.median_ratio - 1.0;
   const std::string kept = fmt::format(
       "the {} scale is kept, and the difference is carried in every "
@@ -96,6 +97,21 @@ std::string Cause(const TestPlan& plan, const DistortionCheck& check,
                         100.0 * check.shape_misfit)
           : "the dots (two per head) cannot show whether the layout is "
             "theirs";
+  if (processing.tag_scale_at_risk && plan.calibration.tag) {
+    // The tag's border shows processing that moves small cells' midlines
+    // (CameraProcessingOptions::min_cell_px): the likeliest cause.
+    return fmt::format(
+        "; {}, and the scale is off alike over the video: most likely the "
+        "tag's, as the camera's sharpening or tone curve (seen on its "
+        "border) moves the scale of a tag whose cells are {:.1f} px by as "
+        "much as 0.6 %; print the tag at least {:.0f} mm across, or "
+        "film it closer, so that its cells are {:.0f} px or more; else one "
+        "of: {}; {}",
+        shape, processing.tag_cell_px,
+        std::ceil(plan.calibration.tag->size_mm *
+                  processing.tag_cells_wanted_px / processing.tag_cell_px),
+        processing.tag_cells_wanted_px, fmt::join(causes, "; "), kept);
+  }
   return fmt::format(
       "; {}, and the scale is off alike over the video, which the footage "
       "cannot trace to one of: {}; {}; measure them and correct the plan",
@@ -107,7 +123,8 @@ std::string Cause(const TestPlan& plan, const DistortionCheck& check,
 DistortionCheck CheckDistortion(const TestPlan& plan,
                                 const std::vector<FrameSample>& frames,
                                 const std::string& scale_source,
-                                double camera_height_mm) {
+                                double camera_height_mm,
+                                const CameraProcessing& processing) {
   DistortionCheck check;
   check.tolerance = plan.calibration.distortion_tolerance;
   const size_t heads = plan.markers.size();
@@ -172,7 +189,9 @@ DistortionCheck CheckDistortion(const TestPlan& plan,
       "layout (5-95 % range {:.3f} % over the video; tolerance {:.3f} %)",
       scale_source, 100.0 * (check.median_ratio - 1.0), 100.0 * spread,
       100.0 * check.tolerance);
-  if (check.warn) check.message += Cause(plan, check, spread, scale_source);
+  if (check.warn) {
+    check.message += Cause(plan, check, spread, scale_source, processing);
+  }
   return check;
 }
 

@@ -440,8 +440,9 @@ void Finish(const TestPlan& plan, const VideoInfo& info,
       m->every_frame ? m->frames.back().time_s : info.LastFrameS();
   SetDisplacements(plan, options.rest_s, m);
   MeasurePlatePoses(options, m);
-  m->distortion = CheckDistortion(plan, m->frames, m->scale_source,
-                                  m->mapping->CameraHeightMm());
+  m->distortion =
+      CheckDistortion(plan, m->frames, m->scale_source,
+                      m->mapping->CameraHeightMm(), m->camera_processing);
 }
 
 }  // namespace
@@ -466,6 +467,9 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
                   &tag_corners, &tag_signs);
   m.camera_processing =
       DescribeCameraProcessing(tag_signs, options.camera_processing);
+  if (tag_corners) {
+    NoteTagCells(*tag_corners, options.camera_processing, &m.camera_processing);
+  }
   if (!plan.calibration.tag) {
     m.camera_processing.why_not = "the plan has no tag to read it from";
   }

@@ -229,6 +229,8 @@ json CameraProcessingJson(const CameraProcessing& p) {
     out["halo_percent"] = JsonNumber(100.0 * p.signs.halo);
     out["white_ratio_percent"] = JsonNumber(100.0 * p.signs.white_ratio);
     out["dots_weighed_in"] = p.sharpened ? "codes" : "linear light";
+    out["tag_cell_px"] = JsonNumber(p.tag_cell_px);
+    out["tag_scale_at_risk"] = p.tag_scale_at_risk;
   } else {
     out["why_not"] = p.why_not;
   }

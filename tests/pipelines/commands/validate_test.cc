@@ -434,6 +434,8 @@ tests:
 struct PhoneCheck {
   double layout_ratio = 1.0;         // DistortionCheck::median_ratio
   std::vector<std::string> effects;  // CameraProcessing's, by name
+  double tag_cell_px = 0.0;          // CameraProcessing's
+  bool tag_scale_at_risk = false;    // CameraProcessing's
 };
 
 class ValidateCommandTest : public ScratchDirectoryTest {
@@ -701,6 +703,8 @@ tests:
   for (const ProcessingEffect& e : m.camera_processing.effects) {
     check.effects.push_back(e.name);
   }
+  check.tag_cell_px = m.camera_processing.tag_cell_px;
+  check.tag_scale_at_risk = m.camera_processing.tag_scale_at_risk;
   std::cout << "camera's processing: " << m.camera_processing.Summary() << "\n";
   return check;
 }
@@ -769,6 +773,10 @@ TEST_F(ValidateCommandTest, PhoneSharpeningMeetsTheBar) {
   EXPECT_NEAR(check.layout_ratio, 1.0, 5e-4);
   EXPECT_TRUE(Named(check, "sharpening halos"));
   EXPECT_TRUE(Named(check, "a tone curve or filtering"));
+  // 1080p draws the 25 mm tag's cells 16.8 px wide: over the 15 px below
+  // which the processing could move its scale.
+  EXPECT_NEAR(check.tag_cell_px, 16.8, 0.3);
+  EXPECT_FALSE(check.tag_scale_at_risk);
 }
 
 // The lens's blur in light (none, sharper than any camera, in the first
@@ -830,6 +838,9 @@ TEST_F(ValidateCommandTest, VariableFrameRateMeetsTheBar) {
   const PhoneCheck check = CheckPhoneFormat(
       [](RenderCommandOptions* r) { r->vfr_jitter = 0.8; }, true);
   EXPECT_TRUE(check.effects.empty()) << check.effects.front();
+  // 720p's 11 px cells, but no processing: the scale is not at risk.
+  EXPECT_NEAR(check.tag_cell_px, 11.2, 0.3);
+  EXPECT_FALSE(check.tag_scale_at_risk);
 }
 
 // A tag taken away after the first second on a plain table (nothing else

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -92,6 +93,56 @@ TEST(CameraProcessingOptions, RefusesBarsThatAreNotPositive) {
   options = {};
   options.white_ratio = std::nan("");
   EXPECT_EQ(options.Problem(), "white_ratio must be > 0");
+  options = {};
+  options.min_cell_px = -1.0;
+  EXPECT_EQ(options.Problem(), "min_cell_px must be >= 0");
+}
+
+// The tag's corners (a square turned 30 degrees, sides of `side_px`).
+std::array<Eigen::Vector2d, 4> Square(double side_px) {
+  const Eigen::Vector2d u(std::cos(0.5236), std::sin(0.5236));
+  const Eigen::Vector2d v(-u.y(), u.x());
+  const Eigen::Vector2d at(300.0, 200.0);
+  return {at, at + side_px * u, at + side_px * (u + v), at + side_px * v};
+}
+
+// Processing on the codes moves a small-celled tag's scale (issue 28: up to
+// half a percent at 720p's 11 px cells): the effects on the codes say so,
+// the local tone mapping's does not, and large cells or unprocessed codes
+// leave the scale trusted.
+TEST(CameraProcessing, PutsASmallCelledTagsScaleAtRiskOnlyUnderProcessing) {
+  const CameraProcessingOptions options;
+  CameraProcessing p = DescribeCameraProcessing({{-0.25, 0.064, 0.03}}, {});
+  NoteTagCells(Square(89.6), options, &p);
+  EXPECT_NEAR(p.tag_cell_px, 11.2, 1e-9);
+  EXPECT_TRUE(p.tag_scale_at_risk);
+  ASSERT_EQ(p.effects.size(), 3u);
+  for (int e = 0; e < 2; ++e) {
+    EXPECT_NE(p.effects[e].handling.find("cells are 11.2 px"),
+              std::string::npos)
+        << p.effects[e].handling;
+  }
+  EXPECT_EQ(p.effects[2].handling.find("cells are"), std::string::npos)
+      << p.effects[2].handling;
+  EXPECT_NE(p.Summary().find("cells of 11.2 px they may move its scale"),
+            std::string::npos)
+      << p.Summary();
+  // An edge shift alone (a tone curve) puts it at risk as halos do.
+  p = DescribeCameraProcessing({{-0.25, 0.0, 0.0}}, {});
+  NoteTagCells(Square(89.6), options, &p);
+  EXPECT_TRUE(p.tag_scale_at_risk);
+  // Cells of 15 px or more: the midlines hold.
+  p = DescribeCameraProcessing({{-0.25, 0.064, 0.0}}, {});
+  NoteTagCells(Square(8 * 15.1), options, &p);
+  EXPECT_NEAR(p.tag_cell_px, 15.1, 1e-9);
+  EXPECT_FALSE(p.tag_scale_at_risk);
+  EXPECT_EQ(p.effects[0].handling.find("cells are"), std::string::npos);
+  EXPECT_EQ(p.Summary().find("may move"), std::string::npos) << p.Summary();
+  // Small cells, codes unprocessed (local tone mapping only).
+  p = DescribeCameraProcessing({{0.0, 0.002, 0.03}}, {});
+  NoteTagCells(Square(89.6), options, &p);
+  EXPECT_FALSE(p.tag_scale_at_risk);
+  EXPECT_NEAR(p.tag_cell_px, 11.2, 1e-9);
 }
 
 // A rolling shutter seen in the registration joins the effects, with its

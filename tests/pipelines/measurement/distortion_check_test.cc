@@ -64,8 +64,9 @@ constexpr double kCameraHeightMm = 475.0;
 
 TEST(DistortionCheck, AgreesWithTheLayoutItsDotsHave) {
   const TestPlan plan = Plan(kLayout);
-  const DistortionCheck check = CheckDistortion(
-      plan, Frames(plan.markers[0].layout_mm, 1.0), "tag 0", kCameraHeightMm);
+  const DistortionCheck check =
+      CheckDistortion(plan, Frames(plan.markers[0].layout_mm, 1.0), "tag 0",
+                      kCameraHeightMm, {});
   ASSERT_TRUE(check.performed);
   EXPECT_FALSE(check.warn) << check.message;
   EXPECT_NEAR(check.median_ratio, 1.0, 1e-4);
@@ -80,8 +81,9 @@ TEST(DistortionCheck, AgreesWithTheLayoutItsDotsHave) {
 TEST(DistortionCheck, NamesTheHeightAndPrintsWhenTheShapeFits) {
   const TestPlan plan = Plan(kLayout);
   const double scale = 459.0 / 460.5;
-  const DistortionCheck check = CheckDistortion(
-      plan, Frames(plan.markers[0].layout_mm, scale), "tag 0", kCameraHeightMm);
+  const DistortionCheck check =
+      CheckDistortion(plan, Frames(plan.markers[0].layout_mm, scale), "tag 0",
+                      kCameraHeightMm, {});
   ASSERT_TRUE(check.warn) << check.message;
   std::cout << check.message << "\n";
   EXPECT_NEAR(check.implied_plane_offset_mm, 14.5, 0.05);
@@ -99,7 +101,7 @@ TEST(DistortionCheck, NamesTheHeightAndPrintsWhenTheShapeFits) {
   // from a scale has no height to name.
   EXPECT_NE(check.message.find("the lens, uncalibrated"), std::string::npos);
   const DistortionCheck scaled = CheckDistortion(
-      plan, Frames(plan.markers[0].layout_mm, scale), "mm_per_px", 0.0);
+      plan, Frames(plan.markers[0].layout_mm, scale), "mm_per_px", 0.0, {});
   EXPECT_TRUE(std::isnan(scaled.implied_plane_offset_mm));
   EXPECT_EQ(scaled.message.find("plane_offset_mm"), std::string::npos)
       << scaled.message;
@@ -113,7 +115,7 @@ TEST(DistortionCheck, DistrustsALayoutItsDotsDoNotHave) {
   std::vector<Eigen::Vector2d> stuck = plan.markers[0].layout_mm;
   stuck[0].y() -= 0.3;
   const DistortionCheck check =
-      CheckDistortion(plan, Frames(stuck, 1.0), "tag 0", kCameraHeightMm);
+      CheckDistortion(plan, Frames(stuck, 1.0), "tag 0", kCameraHeightMm, {});
   ASSERT_TRUE(check.warn) << check.message;
   std::cout << check.message << "\n";
   EXPECT_GT(check.shape_misfit, 0.5 * std::abs(check.median_ratio - 1.0));
@@ -133,7 +135,7 @@ TEST(DistortionCheck, NamesTheLensForAScaleThatDiffersAcrossTheField) {
   std::vector<Eigen::Vector2d> stuck = plan.markers[0].layout_mm;
   stuck[0].y() -= 0.015;
   const DistortionCheck check = CheckDistortion(plan, Frames(stuck, 1.0, 0.003),
-                                                "tag 0", kCameraHeightMm);
+                                                "tag 0", kCameraHeightMm, {});
   ASSERT_TRUE(check.warn) << check.message;
   EXPECT_GT(check.shape_misfit, 0.5 * std::abs(check.median_ratio - 1.0));
   std::cout << check.message << "\n";
@@ -142,6 +144,39 @@ TEST(DistortionCheck, NamesTheLensForAScaleThatDiffersAcrossTheField) {
   EXPECT_EQ(check.message.find("layout_mm does not describe"),
             std::string::npos)
       << check.message;
+}
+
+// A phone's sharpening on a tag of 11 px cells (720p) moved its scale by
+// half a percent in rendered footage: the dots, whose shape fits, then
+// read 0.6 % large through it. With the tag's scale at risk the check names
+// the tag as the likeliest cause, and how large to print it; the same
+// disagreement without processing seen is traced to no one cause.
+TEST(DistortionCheck, NamesTheTagWhenProcessingPutsItsScaleAtRisk) {
+  const TestPlan plan = Plan(kLayout);
+  const std::vector<FrameSample> frames =
+      Frames(plan.markers[0].layout_mm, 1.006);
+  CameraProcessing processing =
+      DescribeCameraProcessing({{-0.25, 0.064, 0.0}}, {});
+  NoteTagCells({Eigen::Vector2d(100, 100), Eigen::Vector2d(189.6, 100),
+                Eigen::Vector2d(189.6, 189.6), Eigen::Vector2d(100, 189.6)},
+               {}, &processing);
+  ASSERT_TRUE(processing.tag_scale_at_risk);
+  const DistortionCheck check =
+      CheckDistortion(plan, frames, "tag 0", kCameraHeightMm, processing);
+  ASSERT_TRUE(check.warn) << check.message;
+  std::cout << check.message << "\n";
+  for (const char* named :
+       {"most likely the tag's", "cells are 11.2 px", "at least 34 mm across",
+        "15 px or more", "tag 0 scale is kept"}) {
+    EXPECT_NE(check.message.find(named), std::string::npos)
+        << named << " in " << check.message;
+  }
+  const DistortionCheck plain =
+      CheckDistortion(plan, frames, "tag 0", kCameraHeightMm, {});
+  EXPECT_NE(plain.message.find("cannot trace to one of"), std::string::npos)
+      << plain.message;
+  EXPECT_EQ(plain.message.find("most likely"), std::string::npos)
+      << plain.message;
 }
 
 }  // namespace

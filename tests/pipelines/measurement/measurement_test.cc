@@ -266,7 +266,7 @@ TEST(Measurement, DistortionCheckWarnsWithoutIntrinsics) {
     for (HeadObservation& o : tracker.Measure(ImageFrameSource(frame))) {
       sample.heads.push_back({o, {}, {}});
     }
-    return CheckDistortion(plan, {sample}, "tag 0", 0.0);
+    return CheckDistortion(plan, {sample}, "tag 0", 0.0, {});
   };
   CameraIntrinsics ignored = render.intrinsics;
   ignored.distortion = {};
