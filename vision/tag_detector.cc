@@ -32,9 +32,6 @@ std::optional<std::string> TagDetectorOptions::Problem() const {
 
 namespace {
 
-// Cells across tag36h11's black border (libapriltag's width_at_border): the
-// border is one cell wide, and the six cells inside each side carry data.
-constexpr int kCellsAcrossBorder = 8;
 // Fits of the border per detection, each from the last one's corners.
 constexpr int kMaxBorderFits = 4;
 
@@ -282,7 +279,7 @@ class CellWhites {
   std::optional<double> LogRatio() const {
     double sum = 0.0;
     int cells = 0;
-    for (int k = 1; k < kCellsAcrossBorder - 1; ++k) {
+    for (int k = 1; k < kTagCellsAcross - 1; ++k) {
       if (inner_[k].empty() || outer_[k].empty()) continue;
       sum += std::log(Median(outer_[k]) / Median(inner_[k]));
       ++cells;
@@ -292,9 +289,9 @@ class CellWhites {
   }
 
  private:
-  using Cells = std::array<std::vector<double>, kCellsAcrossBorder>;
+  using Cells = std::array<std::vector<double>, kTagCellsAcross>;
   static void Add(Cells* cells, int cell, double white) {
-    if (cell < 1 || cell >= kCellsAcrossBorder - 1 || !(white > 0.0)) return;
+    if (cell < 1 || cell >= kTagCellsAcross - 1 || !(white > 0.0)) return;
     (*cells)[cell].push_back(white);
   }
   Cells outer_, inner_;
@@ -361,7 +358,7 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   // screen, so with y down outward is (-along_y, along_x).
   side.normal = Eigen::Vector2d(-along.y(), along.x());
   const double length = (b - a).norm();
-  const double cell = length / kCellsAcrossBorder;
+  const double cell = length / kTagCellsAcross;
   // Each profile's dark end must stay on the one-cell bar.
   const double d = std::min(options.edge_half_width_px, 0.45 * cell);
   Profile profile(d);
@@ -413,9 +410,9 @@ std::optional<BorderSide> FitBorderSideOf(const cv::Mat& gray,
   // still darkens the halo 5 px away): a black cell has no edge there and
   // fails EdgePoint's contrast test.
   std::vector<Eigen::Vector2d> widths;  // (t, width)
-  widths.reserve((kCellsAcrossBorder - 2) *
+  widths.reserve((kTagCellsAcross - 2) *
                  (static_cast<size_t>(0.2 * cell / spacing) + 2));
-  for (int k = 1; k < kCellsAcrossBorder - 1; ++k) {
+  for (int k = 1; k < kTagCellsAcross - 1; ++k) {
     for (double t = (k + 0.4) * cell; t <= (k + 0.6) * cell; t += spacing) {
       const Eigen::Vector2d p = a + t * along - cell * side.normal;
       const auto edge = EdgePoint<T>(gray, region, p, -side.normal, &profile);
@@ -538,7 +535,7 @@ std::array<Eigen::Vector2d, 4> CornersOf(
       Eigen::Vector2d(-1, -1)};
   std::array<Eigen::Vector2d, 4> midline_square;
   for (int c = 0; c < 4; ++c) {
-    midline_square[c] = 0.5 * (kCellsAcrossBorder - 1) * unit[c];
+    midline_square[c] = 0.5 * (kTagCellsAcross - 1) * unit[c];
   }
   const std::optional<Eigen::Matrix3d> image_from_cells =
       HomographyThrough(midline_square, corners);
@@ -553,7 +550,7 @@ std::array<Eigen::Vector2d, 4> CornersOf(
   }
   for (int c = 0; c < 4; ++c) {
     corners[c] =
-        (*image_from_cells * (0.5 * kCellsAcrossBorder * unit[c]).homogeneous())
+        (*image_from_cells * (0.5 * kTagCellsAcross * unit[c]).homogeneous())
             .hnormalized();
   }
   return corners;
@@ -580,7 +577,7 @@ std::optional<TagEdgeSigns> SignsOf(
     const double length = (approximate[(c + 1) % 4] - approximate[c]).norm();
     const double width = side.width_at_a + side.width_slope * length / 2.0;
     const double cell =
-        (corners[(c + 1) % 4] - corners[c]).norm() / kCellsAcrossBorder;
+        (corners[(c + 1) % 4] - corners[c]).norm() / kTagCellsAcross;
     shift_sum += (width - cell) / 2.0;
     ++widths;
   }

@@ -33,6 +33,11 @@ struct TagDetectorOptions {
   std::optional<std::string> Problem() const;
 };
 
+// Cells across tag36h11's black border (libapriltag's width_at_border): the
+// border is one cell wide, and the six cells inside each side carry data.
+// A tag's corners are its black border's outer corners.
+inline constexpr int kTagCellsAcross = 8;
+
 // What a tag's border shows of how the camera processed its image (issue
 // 28), from the border's edge profiles in linear light. Each is near zero
 // for light that the codes encode as the video's metadata says, blurred by

@@ -19,8 +19,6 @@ constexpr char kRollingShutterShear[] = "rolling-shutter shear";
 constexpr char kSharpeningHalos[] = "sharpening halos";
 constexpr char kCodesCurve[] =
     "a tone curve or filtering the video's transfer does not describe";
-// An AprilTag's black square is this many cells across.
-constexpr int kTagCellsAcross = 8;
 
 }  // namespace
 
