@@ -79,8 +79,17 @@ struct ForceFitSummary {
   std::string model_name;
   std::string method;  // how the constants were found
   ActuatorConstants constants;
-  // 1-sigma standard errors (NaN for fixed constants or ones at a bound).
+  // 1-sigma standard errors (NaN for fixed constants or ones at a bound):
+  // the larger of the rows' noise and the tests' scatter (SetStandardErrors
+  // in force_fit.cc), as the rows of one test share its clamp and its
+  // misfit.
   Eigen::Vector4d standard_errors = Eigen::Vector4d::Constant(NAN);
+  // The rows' noise alone: right only when every row's residual is
+  // independent, which the tests' scatter usually shows it is not.
+  Eigen::Vector4d row_noise_standard_errors = Eigen::Vector4d::Constant(NAN);
+  // Set when the tests' scatter could not be measured (no more tests than
+  // free constants): `standard_errors` are then the rows' noise alone.
+  std::optional<std::string> standard_errors_caveat;
   std::array<DirectionFit, 2> directions;  // [kAxial], [kShear]
   // RMS residual per test [N], [test][direction].
   std::vector<std::array<double, 2>> test_rmse_n;

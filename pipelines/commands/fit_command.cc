@@ -232,6 +232,9 @@ int RunFit(const FitCommandOptions& options, std::ostream& out) {
   const ForceFitSummary* chosen = &ChosenFit(run, options.variant);
   for (const ForceFitSummary& fit : run.fits) {
     if (!fit.ok) spdlog::warn("{}: {}", fit.model_name, fit.why_not);
+    if (fit.ok && fit.standard_errors_caveat) {
+      spdlog::warn("{}: {}", fit.model_name, *fit.standard_errors_caveat);
+    }
   }
   if (!chosen->ok) {
     throw InputError(fmt::format("{}: {} constants not written: {}",

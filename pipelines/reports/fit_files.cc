@@ -208,6 +208,8 @@ json FitJson(const FitRun& run) {
     model["name"] = fit.model_name;
     model["ok"] = fit.ok;
     model["why_not"] = fit.why_not;
+    model["standard_errors_caveat"] =
+        fit.standard_errors_caveat ? json(*fit.standard_errors_caveat) : json();
     model["method"] = fit.method;
     model["condition_number"] = JsonNumber(fit.condition_number);
     model["at_bounds"] = fit.at_bounds;
@@ -217,6 +219,8 @@ json FitJson(const FitRun& run) {
         model["constants"][kFitConstantNames[i]] = {
             {"value", values[i]},
             {"standard_error", JsonNumber(fit.standard_errors[i])},
+            {"row_noise_standard_error",
+             JsonNumber(fit.row_noise_standard_errors[i])},
             {"unit", kConstantUnits[i]}};
       }
       model["natural_length_mm"] = fit.constants.natural_length_mm;

@@ -78,14 +78,20 @@ std::string ReportHtml(const FitRun& run,
   HtmlReport report("Actuator characterisation: " + run.input_path);
   report.AddParagraph(fmt::format(
       "{} tests, {} rows ({} skipped) in {:.1f} s. Models of thesis section "
-      "3.3 fitted to all rows (Algorithm 1); standard errors assume "
-      "independent rows with one noise level per direction.",
+      "3.3 fitted to all rows (Algorithm 1). ± is one standard error: the "
+      "larger of what the rows' noise and what the tests' scatter give, as "
+      "the rows of one test share its clamp and the model's misfit there.",
       run.tests.size(), run.read.rows, run.read.rows_skipped, run.seconds));
   for (const std::string& example : run.read.skipped_examples) {
     report.AddParagraph("skipped " + example);
   }
   report.AddHeading("Fitted constants and goodness of fit");
   AddConstantsTable(run, &report);
+  for (const ForceFitSummary& fit : run.fits) {
+    if (fit.ok && fit.standard_errors_caveat) {
+      report.AddParagraph(fit.model_name + ": " + *fit.standard_errors_caveat);
+    }
+  }
   int chosen = -1;
   for (size_t m = 0; m < run.fits.size(); ++m) {
     if (run.fits[m].ok && chosen < 0) chosen = static_cast<int>(m);
@@ -143,6 +149,9 @@ std::string FitTable(const FitRun& run) {
     }
     out += "\n";
   }
+  out +=
+      "± is one standard error: the larger of the rows' noise and the tests' "
+      "scatter\n";
   return out;
 }
 

@@ -118,6 +118,18 @@ TEST(ForceFit, EveryVariantRecoversItsConstantsWithinStandardErrors) {
   }
 }
 
+// The sample standard deviation of each constant over repeated fits.
+Eigen::Vector4d SampleDeviation(const std::vector<Eigen::Vector4d>& estimates) {
+  const double n = static_cast<double>(estimates.size());
+  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
+  for (const Eigen::Vector4d& e : estimates) mean += e / n;
+  Eigen::Vector4d variance = Eigen::Vector4d::Zero();
+  for (const Eigen::Vector4d& e : estimates) {
+    variance += (e - mean).cwiseAbs2() / (n - 1);
+  }
+  return variance.cwiseSqrt();
+}
+
 TEST(ForceFit, StandardErrorsMatchTheScatterOverRepeatedExperiments) {
   const FitModel truth = TruthModels()[0];
   constexpr int kExperiments = 40;
@@ -130,17 +142,76 @@ TEST(ForceFit, StandardErrorsMatchTheScatterOverRepeatedExperiments) {
     estimates.push_back(ConstantsVector(fit.constants));
     mean_reported += fit.standard_errors / kExperiments;
   }
-  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
-  for (const Eigen::Vector4d& e : estimates) mean += e / kExperiments;
-  Eigen::Vector4d variance = Eigen::Vector4d::Zero();
-  for (const Eigen::Vector4d& e : estimates) {
-    variance += (e - mean).cwiseAbs2() / (kExperiments - 1);
-  }
+  const Eigen::Vector4d scatter = SampleDeviation(estimates);
   for (int i = 0; i < kNumFitConstants; ++i) {
     // The sample sd of 40 draws is within +-25 % of sigma at ~98 %.
-    const double ratio = std::sqrt(variance[i]) / mean_reported[i];
+    const double ratio = scatter[i] / mean_reported[i];
     EXPECT_GT(ratio, 0.75) << kFitConstantNames[i];
     EXPECT_LT(ratio, 1.3) << kFitConstantNames[i];
+  }
+}
+
+// A clamp a little off the configuration the lab measured (the thesis's
+// 0.04 mm and 0.18 deg) shifts every row of its test alike: the rows are
+// then not independent evidence, and the standard errors must come from the
+// tests' scatter, as the rows' noise alone understates them many times over.
+TEST(ForceFit, StandardErrorsCoverTheScatterWhenEachClampIsOffItsMeasure) {
+  const FitModel truth = TruthModels()[0];
+  constexpr int kExperiments = 40;
+  std::vector<Eigen::Vector4d> estimates;
+  Eigen::Vector4d reported = Eigen::Vector4d::Zero();
+  Eigen::Vector4d from_rows = Eigen::Vector4d::Zero();
+  for (int seed = 1; seed <= kExperiments; ++seed) {
+    SyntheticForceLogOptions options = NoiseOnly(truth, 10.0, seed);
+    options.delta_length_error_mm = 0.04;
+    options.theta_error_rad = DegToRad(0.18);
+    std::vector<ForceTest> tests = MakeTests(options);
+    for (ForceTest& test : tests) {
+      test.measured_delta_length_mm = test.nominal_delta_length_mm;
+      test.measured_theta_rad = test.nominal_theta_rad;
+    }
+    const ForceFitSummary fit =
+        FitForceModel(truth, tests, {}, ForceFitOptions());
+    ASSERT_TRUE(fit.ok) << fit.why_not;
+    estimates.push_back(ConstantsVector(fit.constants));
+    reported += fit.standard_errors / kExperiments;
+    from_rows += fit.row_noise_standard_errors / kExperiments;
+  }
+  const Eigen::Vector4d scatter = SampleDeviation(estimates);
+  for (int i = 0; i < kNumFitConstants; ++i) {
+    EXPECT_GT(scatter[i] / reported[i], 0.7) << kFitConstantNames[i];
+    EXPECT_LT(scatter[i] / reported[i], 1.4) << kFitConstantNames[i];
+    EXPECT_GT(scatter[i] / from_rows[i], 2.0) << kFitConstantNames[i];
+  }
+}
+
+TEST(ForceFit, SaysWhenTooFewTestsLeaveOnlyTheRowsNoise) {
+  const FitModel truth = TruthModels()[0];
+  const std::vector<ForceTest> all = MakeTests(NoiseOnly(truth, 10.0, 3));
+  const ForceFitSummary many = FitForceModel(truth, all, {}, {});
+  ASSERT_TRUE(many.ok) << many.why_not;
+  EXPECT_FALSE(many.standard_errors_caveat.has_value());
+  // Four tests spread over dL and theta determine the four constants, but
+  // not the tests' scatter.
+  std::vector<ForceTest> four;
+  for (const ForceTest& test : all) {
+    const bool apart =
+        four.empty() || (std::abs(test.nominal_delta_length_mm -
+                                  four.back().nominal_delta_length_mm) > 0.5 &&
+                         std::abs(test.nominal_theta_rad -
+                                  four.back().nominal_theta_rad) > 0.1);
+    if (apart) four.push_back(test);
+    if (four.size() == 4) break;
+  }
+  ASSERT_EQ(four.size(), 4u);
+  const ForceFitSummary few = FitForceModel(truth, four, {}, {});
+  ASSERT_TRUE(few.ok) << few.why_not;
+  ASSERT_TRUE(few.standard_errors_caveat.has_value());
+  EXPECT_NE(few.standard_errors_caveat->find("4 tests for 4 constants"),
+            std::string::npos)
+      << *few.standard_errors_caveat;
+  for (int i = 0; i < kNumFitConstants; ++i) {
+    EXPECT_EQ(few.standard_errors[i], few.row_noise_standard_errors[i]);
   }
 }
 
