@@ -18,6 +18,12 @@ namespace {
 
 using nlohmann::json;
 
+// What the ± beside each constant is (ForceFitSummary::standard_errors),
+// on stdout and in the report alike.
+constexpr char kStandardErrorMeaning[] =
+    "± is one standard error: the larger of the rows' noise and the tests' "
+    "scatter";
+
 // The fitted constants with standard errors and the goodness of fit of
 // every model (thesis Table 3.2's terms).
 void AddConstantsTable(const FitRun& run, HtmlReport* report) {
@@ -78,10 +84,10 @@ std::string ReportHtml(const FitRun& run,
   HtmlReport report("Actuator characterisation: " + run.input_path);
   report.AddParagraph(fmt::format(
       "{} tests, {} rows ({} skipped) in {:.1f} s. Models of thesis section "
-      "3.3 fitted to all rows (Algorithm 1). ± is one standard error: the "
-      "larger of what the rows' noise and what the tests' scatter give, as "
-      "the rows of one test share its clamp and the model's misfit there.",
-      run.tests.size(), run.read.rows, run.read.rows_skipped, run.seconds));
+      "3.3 fitted to all rows (Algorithm 1). {}, as the rows of one test "
+      "share its clamp and the model's misfit there.",
+      run.tests.size(), run.read.rows, run.read.rows_skipped, run.seconds,
+      kStandardErrorMeaning));
   for (const std::string& example : run.read.skipped_examples) {
     report.AddParagraph("skipped " + example);
   }
@@ -149,9 +155,7 @@ std::string FitTable(const FitRun& run) {
     }
     out += "\n";
   }
-  out +=
-      "± is one standard error: the larger of the rows' noise and the tests' "
-      "scatter\n";
+  out += std::string(kStandardErrorMeaning) + "\n";
   return out;
 }
 
