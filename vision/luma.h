@@ -70,11 +70,10 @@ inline cv::Mat LumaFilling16Bits(const cv::Mat& luma,
   return out;
 }
 
-// Luma as float in 8-bit levels.
-inline cv::Mat LumaAsFloat(const cv::Mat& luma, const LumaEncoding& encoding) {
-  cv::Mat out;
-  luma.convertTo(out, CV_32F, LevelsPerCode(luma.depth(), encoding));
-  return out;
+// Luma as float in 8-bit levels, into `out` (reused when it has the size).
+inline void LumaAsFloat(const cv::Mat& luma, const LumaEncoding& encoding,
+                        cv::Mat* out) {
+  luma.convertTo(*out, CV_32F, LevelsPerCode(luma.depth(), encoding));
 }
 
 // Luma as linear light: each code through `linear` (LinearLumaTable), into

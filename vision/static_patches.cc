@@ -54,10 +54,13 @@ std::vector<Candidate> StrongestPerCell(const cv::Mat& luma,
   // seven 8 MB float images and 0.3 s, mostly the kernel mapping fresh
   // pages; at 4K, 230 MB.
   cv::Mat image, gx, gy, product, xx, yy, xy;
+  const bool masked = !allowed.empty();
   for (int y0 = border; y0 + cell <= luma.rows - border; y0 += cell) {
     const cv::Range slopes(y0 - h, y0 + cell + h), band(h, h + cell);
-    image =
-        LumaAsFloat(luma.rowRange(slopes.start - 1, slopes.end + 1), encoding);
+    // Into the same buffer every band: a fresh half-megabyte image per band
+    // is mapped anew by the kernel, which cost as much as the filters.
+    LumaAsFloat(luma.rowRange(slopes.start - 1, slopes.end + 1), encoding,
+                &image);
     const cv::Mat inner = image.rowRange(1, image.rows - 1);
     cv::Sobel(inner, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(inner, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
@@ -75,18 +78,19 @@ std::vector<Candidate> StrongestPerCell(const cv::Mat& luma,
         const int v = y0 + r;
         const auto* a = xx.ptr<float>(r);
         const auto* b = yy.ptr<float>(r);
+        const auto* c = xy.ptr<float>(r);
+        const uint8_t* ok = masked ? allowed.ptr<uint8_t>(v) : nullptr;
         for (int u = x0; u < x0 + cell; ++u) {
-          if (!allowed.empty() && allowed.at<uint8_t>(v, u) == 0) continue;
+          if (ok != nullptr && ok[u] == 0) continue;
           if (a[u] + b[u] > best.strength) {
-            best = {a[u] + b[u], u, v, a[u], b[u], xy.at<float>(r, u)};
+            best = {a[u] + b[u], u, v, a[u], b[u], c[u]};
           }
         }
       }
       // The patch must be allowed whole, not just at its centre.
       if (best.u < 0 || best.strength < min_energy) continue;
-      if (!allowed.empty() &&
-          cv::countNonZero(allowed(
-              cv::Rect(best.u - h, best.v - h, side, side))) < side * side) {
+      if (masked && cv::countNonZero(allowed(cv::Rect(
+                        best.u - h, best.v - h, side, side))) < side * side) {
         continue;
       }
       candidates.push_back(best);

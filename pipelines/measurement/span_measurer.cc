@@ -58,9 +58,9 @@ cv::Mat StaticMask(const TestPlan& plan, const PlaneMapping& mapping,
     }
   }
   cv::convexHull(grown, hull);
-  cv::Mat moving(size, CV_8UC1, cv::Scalar(0));
-  cv::fillConvexPoly(moving, hull, cv::Scalar(255));
-  return 255 - moving;
+  cv::Mat still(size, CV_8UC1, cv::Scalar(255));
+  cv::fillConvexPoly(still, hull, cv::Scalar(0));
+  return still;
 }
 
 }  // namespace
@@ -78,14 +78,13 @@ RegistrationReference MakeRegistrationReference(
     const TestPlan& plan, const FrameSource& first, const PlaneMapping& mapping,
     const std::optional<std::array<Eigen::Vector2d, 4>>& tag_corners) {
   RegistrationReference reference;
-  reference.luma = first.luma().clone();
   reference.static_mask = StaticMask(plan, mapping, first);
   if (tag_corners) {
     TagReference& tag = reference.tag.emplace();
     tag.id = plan.calibration.tag->id;
     TagDetectorOptions options;
     options.luma_encoding = first.luma_encoding();
-    tag.corners = RefineTagCorners(reference.luma, *tag_corners, options, 0.25)
+    tag.corners = RefineTagCorners(first.luma(), *tag_corners, options, 0.25)
                       .value_or(*tag_corners);
   }
   return reference;

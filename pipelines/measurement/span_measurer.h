@@ -33,11 +33,11 @@ struct SnapshotTime {
   double requested_s, frame_s;
 };
 
-// What every frame is registered to: the video's first frame, its tag (the
-// corners of the mapping, re-located in that frame) and where its static
-// patches may be taken.
+// What every frame is registered to, from the video's first frame: its tag
+// (the corners of the mapping, re-located in that frame) and where its
+// static patches may be taken. The frame itself is not kept: the patches
+// copy what they need of it.
 struct RegistrationReference {
-  cv::Mat luma;
   cv::Mat static_mask;
   std::optional<TagReference> tag;
 };

@@ -219,7 +219,7 @@ Registrations MakeRegistrations(
   if (!options.register_frames) return r;
   r.reference = MakeRegistrationReference(plan, first, mapping, tag_corners);
   r.prototype = std::make_unique<const BenchRegistration>(
-      intrinsics, r.reference->luma, r.reference->static_mask, r.reference->tag,
+      intrinsics, first.luma(), r.reference->static_mask, r.reference->tag,
       r.options);
   if (!r.reference->tag &&
       r.prototype->patch_count() < options.registration.min_patches) {
