@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/units.h"
+
 namespace softbench {
 namespace {
 
@@ -28,13 +30,23 @@ double PredictedMotion(const TestScore& entry) {
   return largest;
 }
 
-// The other entry (with other pressures) whose prediction `tests[i]`'s
-// motion fits best, or -1.
+// Whether a test `own` [mm] from its entry's prediction, which moves the
+// heads by up to `predicted` [mm], is far beyond any model error.
+bool Gross(const ValidationOptions& options, double own, double predicted) {
+  return own > std::max(options.mismatch_min_mm,
+                        options.mismatch_fraction * predicted);
+}
+
+// The other entry (with other pressures and a prediction) whose prediction
+// `tests[i]`'s motion fits best, or -1.
 int BestOtherEntry(const std::vector<TestScore>& tests, size_t i) {
   int best = -1;
   double best_distance = INFINITY;
   for (size_t j = 0; j < tests.size(); ++j) {
-    if (j == i || tests[j].pressures.isApprox(tests[i].pressures, 1e-12)) {
+    // An entry the model has no prediction for is nobody's match (its NaN
+    // distance would read as 0 through std::max).
+    if (j == i || !tests[j].predicted ||
+        tests[j].pressures.isApprox(tests[i].pressures, 1e-12)) {
       continue;
     }
     const double distance = Distance(tests[i], tests[j]);
@@ -56,9 +68,7 @@ std::vector<std::string> CheckPlanConsistency(const ValidationOptions& options,
     TestScore& test = (*tests)[i];
     if (!test.measured || !test.predicted) continue;
     const double own = Distance(test, test);
-    const bool gross =
-        own > std::max(options.mismatch_min_mm,
-                       options.mismatch_fraction * PredictedMotion(test));
+    const bool gross = Gross(options, own, PredictedMotion(test));
     const int other = BestOtherEntry(*tests, i);
     const double other_distance =
         other >= 0 ? Distance(test, (*tests)[other]) : INFINITY;
@@ -113,6 +123,50 @@ std::vector<std::string> CheckPlanConsistency(const ValidationOptions& options,
       "'skipped: true' and give a test done again an entry of its own",
       ids.size(), tests->size(), fmt::join(ids, ", ")));
   return warnings;
+}
+
+std::optional<std::string> PressureUnitThatFits(
+    const ValidationOptions& options, const std::vector<TestScore>& tests,
+    std::string_view unit, const PredictHeads& predict) {
+  const auto measured =
+      std::count_if(tests.begin(), tests.end(),
+                    [](const TestScore& t) { return t.measured; });
+  const auto failed =
+      std::count_if(tests.begin(), tests.end(), [](const TestScore& t) {
+        return t.measured && !(t.matches_plan && t.predicted);
+      });
+  if (2 * failed <= measured) return std::nullopt;
+  const PressureUnit* best = nullptr;
+  int best_fits = 0;
+  for (const PressureUnit& other : kPressureUnits) {
+    if (&other == FindPressureUnit(unit)) continue;
+    int fits = 0;
+    for (const TestScore& test : tests) {
+      const Eigen::VectorXd mpa = test.pressures * other.mpa_per_unit;
+      if (!test.measured || mpa.maxCoeff() > kMaxPlausiblePressureMpa) {
+        continue;
+      }
+      const Eigen::VectorXd model = predict(mpa);
+      if (!model.allFinite()) continue;
+      double own = 0.0, predicted = 0.0;
+      for (size_t h = 0; h < test.heads.size(); ++h) {
+        const Eigen::Vector2d head = model.segment<2>(2 * h);
+        own = std::max(own, (test.heads[h].measured_mm - head).norm());
+        predicted = std::max(predicted, head.norm());
+      }
+      if (!Gross(options, own, predicted)) ++fits;
+    }
+    if (2 * fits > measured && fits > best_fits) {
+      best = &other;
+      best_fits = fits;
+    }
+  }
+  if (best == nullptr) return std::nullopt;
+  return fmt::format(
+      "with their pressures read in {} instead of the plan's {}, {} of {} "
+      "measured tests move as the model predicts: if the bench's pressures "
+      "were in {}, set pressure_unit: {} in the plan",
+      best->name, unit, best_fits, measured, best->name, best->name);
 }
 
 }  // namespace softbench

@@ -1,7 +1,11 @@
 #ifndef SOFTBENCH_PIPELINES_VALIDATION_PLAN_CONSISTENCY_H_
 #define SOFTBENCH_PIPELINES_VALIDATION_PLAN_CONSISTENCY_H_
 
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pipelines/validation/validation.h"
@@ -25,6 +29,24 @@ namespace softbench {
 // chance.
 std::vector<std::string> CheckPlanConsistency(const ValidationOptions& options,
                                               std::vector<TestScore>* tests);
+
+// The heads' displacements the model predicts [mm: y and z of each head in
+// turn] for pressures [MPa]; not finite where it has no prediction.
+using PredictHeads = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
+
+// When more than half of the measured tests do not move as their entries
+// predict (after CheckPlanConsistency) or have no prediction (the model
+// fails at pressures far beyond the bench's), whether they move as
+// predicted with their
+// pressures read in another unit of kPressureUnits than the plan's `unit`:
+// a plan written in kPa for a bench set in psi predicts motions several
+// times too small, and every test then fails for a reason that the plan's
+// times and order cannot explain. Returns a warning naming the unit under
+// which most measured tests fit (by CheckPlanConsistency's gross test,
+// against `predict`), or nullopt when none does.
+std::optional<std::string> PressureUnitThatFits(
+    const ValidationOptions& options, const std::vector<TestScore>& tests,
+    std::string_view unit, const PredictHeads& predict);
 
 }  // namespace softbench
 

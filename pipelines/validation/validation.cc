@@ -739,6 +739,12 @@ ValidationResult ScoreTests(const TestPlan& plan,
     JudgeAgainstUncertainty(plan.hysteresis_tolerance_mm, &t);
   }
   result.warnings = CheckPlanConsistency(options, &result.tests);
+  const EquilibriumProblem problem(plan.mechanism, plan.force_model);
+  if (std::optional<std::string> unit = PressureUnitThatFits(
+          options, result.tests, plan.pressure_unit,
+          [&](const Eigen::VectorXd& mpa) { return Predict(problem, mpa); })) {
+    result.warnings.push_back(*unit);
+  }
   for (const TestScore& score : result.tests) {
     if (!score.matches_plan) result.mismatched.push_back(score.id);
     if (score.status == "hysteresis") {

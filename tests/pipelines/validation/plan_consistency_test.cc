@@ -6,6 +6,8 @@
 #include <cmath>
 #include <random>
 
+#include "model/units.h"
+
 namespace softbench {
 namespace {
 
@@ -161,6 +163,78 @@ TEST(PlanConsistency, RepeatsWithTheSamePressuresAreNotOtherEntries) {
   tests[3].heads[0].measured_mm = tests[0].heads[0].model_mm;
   CheckPlanConsistency(ValidationOptions(), &tests);
   EXPECT_TRUE(Mismatched(tests).empty());
+}
+
+TEST(PlanConsistency, NeverNamesAnEntryWithoutAPredictionAsTheMatch) {
+  std::mt19937 random(18);
+  std::vector<TestScore> tests = Entries(6, &random);
+  tests[2].predicted = false;  // the model found no equilibrium there
+  tests[2].heads[0].model_mm.setConstant(NAN);
+  tests[0].heads[0].measured_mm = Eigen::Vector2d(5.0, 5.0);
+  CheckPlanConsistency(ValidationOptions(), &tests);
+  ASSERT_FALSE(tests[0].matches_plan);
+  EXPECT_EQ(tests[0].reason.find("test t3"), std::string::npos)
+      << tests[0].reason;
+}
+
+// One head under three actuators, saturating (no unit's prediction is a
+// plain rescaling of another's) [mm from MPa].
+Eigen::VectorXd Bellows(const Eigen::VectorXd& mpa) {
+  return 2.0 * Eigen::Vector2d(std::tanh(8.0 * (mpa[0] - mpa[1])),
+                               std::tanh(8.0 * mpa[2]));
+}
+
+// `count` tests set in psi on the bench, measured as Bellows moves, their
+// entries predicted with the pressures read in `plan_mpa_per_unit`.
+std::vector<TestScore> BenchInPsi(int count, double plan_mpa_per_unit,
+                                  std::mt19937* random) {
+  std::uniform_real_distribution<double> psi(5.0, 25.0), noise(-0.02, 0.02);
+  std::vector<TestScore> tests(count);
+  for (int i = 0; i < count; ++i) {
+    TestScore& t = tests[i];
+    t.id = "t" + std::to_string(i + 1);
+    t.pressures =
+        Eigen::Vector3d(psi(*random), 0.2 * psi(*random), psi(*random));
+    t.measured = true;
+    t.status = "ok";
+    t.heads.resize(1);
+    t.heads[0].model_mm = Bellows(t.pressures * plan_mpa_per_unit);
+    t.heads[0].measured_mm = Bellows(t.pressures * kMpaPerPsi) +
+                             Eigen::Vector2d(noise(*random), noise(*random));
+  }
+  return tests;
+}
+
+TEST(PressureUnitThatFits, NamesPsiWhenThePlanSaysKpaForABenchInPsi) {
+  std::mt19937 random(21);
+  std::vector<TestScore> tests = BenchInPsi(10, kMpaPerKpa, &random);
+  CheckPlanConsistency(ValidationOptions(), &tests);
+  ASSERT_GT(Mismatched(tests).size(), 5u);
+  const std::optional<std::string> hint =
+      PressureUnitThatFits(ValidationOptions(), tests, "kPa", Bellows);
+  ASSERT_TRUE(hint.has_value());
+  EXPECT_NE(hint->find("read in psi instead of the plan's kPa, 10 of 10"),
+            std::string::npos)
+      << *hint;
+  EXPECT_NE(hint->find("set pressure_unit: psi"), std::string::npos) << *hint;
+}
+
+TEST(PressureUnitThatFits, SaysNothingWhenThePlanFits) {
+  std::mt19937 random(22);
+  std::vector<TestScore> tests = BenchInPsi(10, kMpaPerPsi, &random);
+  EXPECT_TRUE(CheckPlanConsistency(ValidationOptions(), &tests).empty());
+  EXPECT_FALSE(
+      PressureUnitThatFits(ValidationOptions(), tests, "psi", Bellows));
+}
+
+TEST(PressureUnitThatFits, SaysNothingWhenNoUnitExplainsTheMotion) {
+  std::mt19937 random(23);
+  std::vector<TestScore> tests = BenchInPsi(10, kMpaPerKpa, &random);
+  for (TestScore& t : tests) t.heads[0].measured_mm *= -1.0;  // backwards
+  CheckPlanConsistency(ValidationOptions(), &tests);
+  ASSERT_GT(Mismatched(tests).size(), 5u);
+  EXPECT_FALSE(
+      PressureUnitThatFits(ValidationOptions(), tests, "kpa", Bellows));
 }
 
 }  // namespace
