@@ -136,6 +136,16 @@ std::optional<std::string> PressureUnitThatFits(
         return t.measured && !(t.matches_plan && t.predicted);
       });
   if (2 * failed <= measured) return std::nullopt;
+  // Only a test that moved further than the gate's floor can tell units
+  // apart: heads that stayed still (windows that missed the actuation) fit
+  // any unit that predicts little motion.
+  const auto moved = [&](const TestScore& t) {
+    return t.measured &&
+           std::any_of(t.heads.begin(), t.heads.end(), [&](const HeadScore& h) {
+             return h.measured_mm.norm() > options.mismatch_min_mm;
+           });
+  };
+  const auto movers = std::count_if(tests.begin(), tests.end(), moved);
   const PressureUnit* best = nullptr;
   int best_fits = 0;
   for (const PressureUnit& other : kPressureUnits) {
@@ -143,9 +153,7 @@ std::optional<std::string> PressureUnitThatFits(
     int fits = 0;
     for (const TestScore& test : tests) {
       const Eigen::VectorXd mpa = test.pressures * other.mpa_per_unit;
-      if (!test.measured || mpa.maxCoeff() > kMaxPlausiblePressureMpa) {
-        continue;
-      }
+      if (!moved(test) || mpa.maxCoeff() > kMaxPlausiblePressureMpa) continue;
       const Eigen::VectorXd model = predict(mpa);
       if (!model.allFinite()) continue;
       double own = 0.0, predicted = 0.0;
@@ -156,17 +164,18 @@ std::optional<std::string> PressureUnitThatFits(
       }
       if (!Gross(options, own, predicted)) ++fits;
     }
-    if (2 * fits > measured && fits > best_fits) {
+    if (fits >= 2 && 2 * fits > movers && fits > best_fits) {
       best = &other;
       best_fits = fits;
     }
   }
   if (best == nullptr) return std::nullopt;
   return fmt::format(
-      "with their pressures read in {} instead of the plan's {}, {} of {} "
-      "measured tests move as the model predicts: if the bench's pressures "
-      "were in {}, set pressure_unit: {} in the plan",
-      best->name, unit, best_fits, measured, best->name, best->name);
+      "with their pressures read in {} instead of the plan's {}, {} of the "
+      "{} measured tests that moved over {:g} mm move as the model predicts: "
+      "if the bench's pressures were in {}, set pressure_unit: {} in the plan",
+      best->name, unit, best_fits, movers, options.mismatch_min_mm, best->name,
+      best->name);
 }
 
 }  // namespace softbench

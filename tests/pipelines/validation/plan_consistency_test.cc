@@ -213,7 +213,8 @@ TEST(PressureUnitThatFits, NamesPsiWhenThePlanSaysKpaForABenchInPsi) {
   const std::optional<std::string> hint =
       PressureUnitThatFits(ValidationOptions(), tests, "kPa", Bellows);
   ASSERT_TRUE(hint.has_value());
-  EXPECT_NE(hint->find("read in psi instead of the plan's kPa, 10 of 10"),
+  EXPECT_NE(hint->find("read in psi instead of the plan's kPa, 10 of the 10 "
+                       "measured tests that moved over 0.5 mm"),
             std::string::npos)
       << *hint;
   EXPECT_NE(hint->find("set pressure_unit: psi"), std::string::npos) << *hint;
@@ -235,6 +236,18 @@ TEST(PressureUnitThatFits, SaysNothingWhenNoUnitExplainsTheMotion) {
   ASSERT_GT(Mismatched(tests).size(), 5u);
   EXPECT_FALSE(
       PressureUnitThatFits(ValidationOptions(), tests, "kpa", Bellows));
+}
+
+TEST(PressureUnitThatFits, SaysNothingWhenTheHeadsStayedStill) {
+  // The plan's unit is right, but the windows missed every actuation: no
+  // unit that predicts little motion may be named for it.
+  std::mt19937 random(24);
+  std::vector<TestScore> tests = BenchInPsi(10, kMpaPerPsi, &random);
+  for (TestScore& t : tests) t.heads[0].measured_mm.setZero();
+  CheckPlanConsistency(ValidationOptions(), &tests);
+  ASSERT_GT(Mismatched(tests).size(), 5u);
+  EXPECT_FALSE(
+      PressureUnitThatFits(ValidationOptions(), tests, "psi", Bellows));
 }
 
 }  // namespace
