@@ -166,13 +166,16 @@ void AddSummary(const TestPlan& plan, const ValidationResult& r,
       "Uncertainty: each measured displacement carries a budget of the "
       "errors this video shows (below, and docs/uncertainty.md): its "
       "standard uncertainty u and expanded uncertainty U = 2u, within which "
-      "a displacement's error lies about 98 % of the time. The largest U is "
-      "{} mm. A model error beyond its U is the model's; one within it may "
-      "be the measurement's. Hysteresis against the {} mm tolerance: {} "
-      "exceed it by more than their U, {} are within it by more than their "
-      "U, {} cannot tell.",
-      FormatMm(r.largest_expanded_mm), plan.hysteresis_tolerance_mm,
-      r.hysteresis_exceeds, r.hysteresis_within, r.hysteresis_cannot_tell));
+      "a displacement's error lies about 98 % of the time. {} A model error "
+      "beyond its U is the model's; one within it may be the measurement's. "
+      "Hysteresis against the {} mm tolerance: {} exceed it by more than "
+      "their U, {} are within it by more than their U, {} cannot tell.",
+      std::isfinite(r.largest_expanded_mm)
+          ? fmt::format("The largest U is {} mm.",
+                        FormatMm(r.largest_expanded_mm))
+          : std::string("No test is scored, so there is no U to give."),
+      plan.hysteresis_tolerance_mm, r.hysteresis_exceeds, r.hysteresis_within,
+      r.hysteresis_cannot_tell));
 }
 
 // Each scored displacement's budget: every term's u (both axes in

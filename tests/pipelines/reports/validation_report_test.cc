@@ -298,6 +298,21 @@ TEST_F(ValidationReportData, IndexLeavesAHeadWithoutScoredTestsEmpty) {
   }
 }
 
+TEST_F(ValidationReportData, SaysThereIsNoUncertaintyWhenNothingIsScored) {
+  EXPECT_NE(ValidationReportHtml(v()).find("The largest U is 0.0"),
+            std::string::npos);
+  VideoValidation unscored = v();
+  unscored.plan.tests = {unscored.plan.tests[0]};
+  unscored.plan.tests[0].pressures = Eigen::Vector3d(1e300, 0, 0);
+  unscored.result =
+      ScoreTests(unscored.plan, unscored.measurement, ValidationOptions());
+  ASSERT_EQ(unscored.result.model_errors[0].tests, 0);
+  const std::string html = ValidationReportHtml(unscored);
+  EXPECT_EQ(html.find("The largest U is"), std::string::npos);
+  EXPECT_NE(html.find("No test is scored, so there is no U to give."),
+            std::string::npos);
+}
+
 TEST(EqualDomains, FallsBackToAUnitSquareWithoutPoints) {
   const auto [y, z] = EqualDomains(json::array());
   EXPECT_EQ(y, json::array({-1, 1}));
