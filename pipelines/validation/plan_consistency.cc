@@ -146,23 +146,26 @@ std::optional<std::string> PressureUnitThatFits(
            });
   };
   const auto movers = std::count_if(tests.begin(), tests.end(), moved);
+  const PressureUnit* plan_unit = FindPressureUnit(unit);
   const PressureUnit* best = nullptr;
   int best_fits = 0;
   for (const PressureUnit& other : kPressureUnits) {
-    if (&other == FindPressureUnit(unit)) continue;
+    if (&other == plan_unit) continue;
     int fits = 0;
     for (const TestScore& test : tests) {
       const Eigen::VectorXd mpa = test.pressures * other.mpa_per_unit;
       if (!moved(test) || mpa.maxCoeff() > kMaxPlausiblePressureMpa) continue;
       const Eigen::VectorXd model = predict(mpa);
       if (!model.allFinite()) continue;
-      double own = 0.0, predicted = 0.0;
-      for (size_t h = 0; h < test.heads.size(); ++h) {
-        const Eigen::Vector2d head = model.segment<2>(2 * h);
-        own = std::max(own, (test.heads[h].measured_mm - head).norm());
-        predicted = std::max(predicted, head.norm());
+      // The test's entry as this unit would predict it, judged as
+      // CheckPlanConsistency judges the plan's own.
+      TestScore entry = test;
+      for (size_t h = 0; h < entry.heads.size(); ++h) {
+        entry.heads[h].model_mm = model.segment<2>(2 * h);
       }
-      if (!Gross(options, own, predicted)) ++fits;
+      if (!Gross(options, Distance(test, entry), PredictedMotion(entry))) {
+        ++fits;
+      }
     }
     if (fits >= 2 && 2 * fits > movers && fits > best_fits) {
       best = &other;

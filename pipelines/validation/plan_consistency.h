@@ -37,14 +37,13 @@ using PredictHeads = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 // When more than half of the measured tests do not move as their entries
 // predict (after CheckPlanConsistency) or have no prediction (the model
 // fails at pressures far beyond the bench's), whether they move as
-// predicted with their
-// pressures read in another unit of kPressureUnits than the plan's `unit`:
-// a plan written in kPa for a bench set in psi predicts motions several
-// times too small, and every test then fails for a reason that the plan's
-// times and order cannot explain. Only tests whose heads moved further
-// than options.mismatch_min_mm take part (heads that stayed still fit any
-// unit that predicts little motion). Returns a warning naming the unit
-// under which at least two and more than half of them fit (by
+// predicted with their pressures read in another unit of kPressureUnits
+// than the plan's `unit`: a plan written in kPa for a bench set in psi
+// predicts motions several times too small, and every test then fails for
+// a reason that the plan's times and order cannot explain. Only tests whose
+// heads moved further than options.mismatch_min_mm take part (heads that stayed
+// still fit any unit that predicts little motion). Returns a warning naming the
+// unit under which at least two and more than half of them fit (by
 // CheckPlanConsistency's gross test, against `predict`), or nullopt when
 // none does.
 std::optional<std::string> PressureUnitThatFits(
