@@ -142,6 +142,13 @@ std::unique_ptr<BenchRegistration> BenchRegistration::Clone() const {
   return std::unique_ptr<BenchRegistration>(new BenchRegistration(*this));
 }
 
+void BenchRegistration::Restart() {
+  if (tag_) last_corners_ = tag_->corners;
+  last_motion_ = CameraMotion();
+  recent_shifts_px_.clear();
+  frames_since_tag_ = 0;
+}
+
 Eigen::Vector2d BenchRegistration::Predict(
     const Eigen::Matrix3d& current_from_reference,
     const Eigen::Vector3d& ray) const {

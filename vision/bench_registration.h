@@ -123,6 +123,13 @@ class BenchRegistration {
 
   int patch_count() const { return patches_.size(); }
 
+  // Forgets the frames registered so far, as after a seek: the next frame
+  // is registered as the first after the reference (its tag followed from
+  // the reference's corners, the fit started at no motion, no stride). So a
+  // span's registration does not depend on which spans were registered
+  // before it, or by which copy.
+  void Restart();
+
   // Another registration to the same reference, in this one's state, for a
   // worker of its own: the patches are copied, not chosen again (choosing
   // them is a pass over the whole reference frame, 0.1 s of CPU at 4K).

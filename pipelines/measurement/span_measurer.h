@@ -89,16 +89,20 @@ class SpanMeasurer {
   // How a span's first frame is found.
   enum class Start {
     kSeek,    // a seek to the span's start
+    kSought,  // `current`: what the reader's seek to the span's start gave
     kReadOn,  // the next frame from the reader's position
     kCurrent  // the frame the reader returned last (`current`)
   };
-  // The frames of `span`; `poll` is called after each frame.
+  // The frames of `span`; `poll` is called after each frame. After a seek
+  // the heads are found again and the registration starts afresh, so what
+  // a span measures does not depend on the spans measured before it.
   void Measure(const TimeSpan& span, Start start, const VideoFrame* current,
                const std::function<void()>& poll) {
     VideoFrame frame;
-    if (start == Start::kSeek) {
-      frame = reader_->SeekTo(span.start_s);
+    if (start == Start::kSeek || start == Start::kSought) {
+      frame = start == Start::kSeek ? reader_->SeekTo(span.start_s) : *current;
       tracker_.ForgetPositions();
+      if (registration_ != nullptr) registration_->Restart();
     } else if (start == Start::kCurrent) {
       frame = *current;
     } else if (!reader_->Read(&frame)) {
@@ -169,6 +173,12 @@ class SpanMeasurer {
   }
 
   // Appends what was measured (later spans than `m` holds) to `m`.
+  // When the first frame this measurer could not register was shown
+  // (infinity: none).
+  double first_unregistered_s() const { return first_unregistered_s_; }
+
+  // Appends what was measured to `m`, whose reason for unregistered frames
+  // is this measurer's only when it has none yet.
   void MoveInto(VideoMeasurement* m) {
     std::move(frames_.begin(), frames_.end(), std::back_inserter(m->frames));
     std::move(snapshots_.begin(), snapshots_.end(),
@@ -204,7 +214,10 @@ class SpanMeasurer {
             reader_->path(), frame.time_s, r.why_not));
       }
       ++unregistered_frames_;
-      if (unregistered_reason_.empty()) unregistered_reason_ = r.why_not;
+      if (unregistered_reason_.empty()) {
+        unregistered_reason_ = r.why_not;
+        first_unregistered_s_ = frame.time_s;
+      }
       FillUnmeasured("frame not registered: " + r.why_not, sample);
       return false;
     }
@@ -239,6 +252,7 @@ class SpanMeasurer {
   int unregistered_frames_ = 0;
   int damaged_frames_ = 0;
   std::string unregistered_reason_;
+  double first_unregistered_s_ = INFINITY;  // its spans are in time order
   bool first_frame_complete_ = false;
   std::optional<WindowFrameKeeper> window_frames_;
 };

@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <thread>
 
@@ -259,40 +260,111 @@ PlaneMapping TagMappingOverTheVideo(
   return *m->mapping;
 }
 
+// A windows worker's reader after the first's, opened and sought to the
+// worker's first span on a thread of its own while the first worker reads
+// the tag, chooses the patches and measures the first frame: a seek decodes
+// from the key frame before the span (up to a GOP of frames), so without it
+// the other workers would start that much later. One decoder thread: after
+// a seek, frame threads never fill up.
+class WindowReader {
+ public:
+  WindowReader(const std::string& path, double span_start_s)
+      : sought_(std::async(std::launch::async, [this, path, span_start_s] {
+          reader_ = std::make_unique<VideoReader>(
+              path, VideoReaderOptions{
+                        .want_luma = true, .want_bgr = false, .threads = 1});
+          return reader_->SeekTo(span_start_s);
+        })) {}
+  WindowReader(const WindowReader&) = delete;
+  WindowReader& operator=(const WindowReader&) = delete;
+
+  // Waits for the seek; the reader, and in `frame` the frame it gave.
+  VideoReader* Take(VideoFrame* frame) {
+    *frame = sought_.get();
+    return reader_.get();
+  }
+
+ private:
+  std::unique_ptr<VideoReader> reader_;  // set on `sought_`'s thread
+  std::future<VideoFrame> sought_;  // after reader_: waited for before it goes
+};
+
+// How many workers measure the windows, one per core.
+size_t WindowJobs(const std::vector<TimeSpan>& spans) {
+  return std::min<size_t>(spans.size(),
+                          std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// The readers of the windows' workers after the first, each sought to its
+// first span (span j for worker j).
+std::vector<std::unique_ptr<WindowReader>> OpenWindowReaders(
+    const std::string& path, const std::vector<TimeSpan>& spans) {
+  std::vector<std::unique_ptr<WindowReader>> readers;
+  for (size_t j = 1; j < WindowJobs(spans); ++j) {
+    readers.push_back(std::make_unique<WindowReader>(path, spans[j].start_s));
+  }
+  return readers;
+}
+
 // The windows in parallel: the first frame alone (it sets the heads'
 // references - rotation, dot offsets - that every later frame is measured
-// against), then each worker a share of the spans in time order with its
-// own single-threaded decoder (after a seek, frame threads never fill up)
-// and a copy of the tracker; the first continues where it stopped.
+// against), then each worker one span at a time, the next not yet taken,
+// with its own reader and a copy of the tracker; the first continues where
+// it stopped. Taken in whatever order the workers free up, the spans are
+// measured alike: after a seek a span depends on none before it
+// (SpanMeasurer::Measure).
 void MeasureWindows(const std::vector<TimeSpan>& spans, double half_frame_s,
                     const std::function<SpanMeasurer(VideoReader*)>& make,
-                    std::vector<SpanMeasurer>* measurers,
-                    std::vector<std::unique_ptr<VideoReader>>* readers,
-                    ProgressBar* progress,
+                    const std::vector<std::unique_ptr<WindowReader>>& readers,
+                    std::vector<SpanMeasurer>* measurers, ProgressBar* progress,
                     const std::atomic<int64_t>& frames_done) {
   SpanMeasurer& first = measurers->front();
   first.Measure({spans.front().start_s, spans.front().start_s + half_frame_s},
                 SpanMeasurer::Start::kSeek, nullptr, [] {});
-  const int jobs = static_cast<int>(std::min<size_t>(
-      spans.size(), std::max(1u, std::thread::hardware_concurrency())));
-  for (int j = 1; j < jobs; ++j) {
-    readers->push_back(std::make_unique<VideoReader>(
-        first.path(), VideoReaderOptions{
-                          .want_luma = true, .want_bgr = false, .threads = 1}));
-    measurers->push_back(make(readers->back().get()));
+  const size_t jobs = readers.size() + 1;
+  std::vector<VideoFrame> sought(jobs);
+  for (size_t j = 1; j < jobs; ++j) {
+    measurers->push_back(make(readers[j - 1]->Take(&sought[j])));
   }
+  std::atomic<size_t> next{jobs};
   RunParallelTasks(
-      jobs, jobs,
+      static_cast<int>(jobs), static_cast<int>(jobs),
       [&](int j) {
-        for (size_t i = spans.size() * j / jobs;
-             i < spans.size() * (j + 1) / jobs; ++i) {
-          (*measurers)[j].Measure(
-              spans[i],
-              i > 0 ? SpanMeasurer::Start::kSeek : SpanMeasurer::Start::kReadOn,
-              nullptr, [] {});
+        SpanMeasurer& measurer = (*measurers)[j];
+        measurer.Measure(spans[j],
+                         j == 0 ? SpanMeasurer::Start::kReadOn
+                                : SpanMeasurer::Start::kSought,
+                         &sought[j], [] {});
+        for (size_t i = next++; i < spans.size(); i = next++) {
+          measurer.Measure(spans[i], SpanMeasurer::Start::kSeek, nullptr,
+                           [] {});
         }
       },
       [&] { progress->Update(frames_done); });
+}
+
+// What the measurers measured, into `m`: the frames in time order (the
+// windows' workers took spans out of order), the reason for unregistered
+// frames that of the earliest.
+void GatherMeasurers(std::vector<SpanMeasurer>* measurers,
+                     VideoMeasurement* m) {
+  std::vector<SpanMeasurer*> order;
+  for (SpanMeasurer& measurer : *measurers) order.push_back(&measurer);
+  std::stable_sort(order.begin(), order.end(),
+                   [](const SpanMeasurer* a, const SpanMeasurer* b) {
+                     return a->first_unregistered_s() <
+                            b->first_unregistered_s();
+                   });
+  for (SpanMeasurer* measurer : order) measurer->MoveInto(m);
+  if (measurers->size() == 1) return;
+  std::sort(m->frames.begin(), m->frames.end(),
+            [](const FrameSample& a, const FrameSample& b) {
+              return a.time_s < b.time_s;
+            });
+  std::sort(m->snapshots.begin(), m->snapshots.end(),
+            [](const FrameSnapshot& a, const FrameSnapshot& b) {
+              return a.time_s < b.time_s;
+            });
 }
 
 // Motion within a rest [mm] (5-95 % range) that says it was no rest: far
@@ -459,6 +531,12 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   const VideoInfo& info = reader->info();
   const CameraIntrinsics intrinsics =
       PlanIntrinsics(plan, info.width_px, info.height_px);
+  int64_t frames_wanted = 0;
+  const std::vector<TimeSpan> spans =
+      MeasuredSpans(info, options.spans, &frames_wanted);
+  const std::vector<std::unique_ptr<WindowReader>> window_readers =
+      options.spans.empty() ? std::vector<std::unique_ptr<WindowReader>>()
+                            : OpenWindowReaders(reader->path(), spans);
   VideoMeasurement m = StartMeasurement(*reader);
   std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
   std::vector<TagEdgeSigns> tag_signs;
@@ -490,9 +568,6 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   const std::vector<SnapshotTime> snapshot_times =
       SnapshotTimes(info, options.snapshot_times_s);
   m.every_frame = options.spans.empty();
-  int64_t frames_wanted = 0;
-  const std::vector<TimeSpan> spans =
-      MeasuredSpans(info, options.spans, &frames_wanted);
 
   // Where the tag shows the codes sharpened, the dots are weighed in codes
   // (issue 28: sharpening's halos about a sharp edge move the light's
@@ -522,16 +597,15 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
                                             registrations.options,
                                             measurers.front().patch_count())
                        : why_still;
-  std::vector<std::unique_ptr<VideoReader>> window_readers;
   if (m.every_frame) {
     measurers.front().Measure(spans.front(), SpanMeasurer::Start::kCurrent,
                               &first, [&] { progress.Update(frames_done); });
   } else if (!spans.empty()) {
-    MeasureWindows(spans, 0.5 * info.frame_interval_s, make, &measurers,
-                   &window_readers, &progress, frames_done);
+    MeasureWindows(spans, 0.5 * info.frame_interval_s, make, window_readers,
+                   &measurers, &progress, frames_done);
   }
   progress.Finish();
-  for (SpanMeasurer& measurer : measurers) measurer.MoveInto(&m);
+  GatherMeasurers(&measurers, &m);
   if (m.registers_frames) {
     const RollingShutterOptions& shutter_options =
         options.camera_processing.rolling_shutter;

@@ -420,6 +420,51 @@ void CheckSample(const std::string& name) {
             << worst_binary << " mm)\n";
 }
 
+// --windows-only's workers take the spans in whatever order they free up,
+// each span after a seek: what a span measures must not depend on which
+// spans its worker measured before it. The delta sample's windows measured
+// all, and again with the three before the last left out: the last one's
+// dots and tag corners are the same to the bit. (Not its displacements:
+// the tag's mapping is averaged over every measured frame.)
+TEST(MeasurementSamples, ASpanMeasuresAlikeWhateverWasMeasuredBeforeIt) {
+  const std::string dir = std::string(SOFTBENCH_SOURCE_DIR) + "/samples/delta";
+  const TestPlan plan = LoadTestPlan(dir + "/rendered.plan.yaml");
+  VideoMeasurementOptions options;
+  options.progress = false;
+  options.spans = {{1.0, 2.0}, {6.0, 7.0}, {9.0, 10.0}, {13.0, 15.0}};
+  const VideoMeasurement all = MeasureVideo(plan, dir + "/delta.mp4", options);
+  options.spans = {{1.0, 2.0}, {13.0, 15.0}};
+  const VideoMeasurement some = MeasureVideo(plan, dir + "/delta.mp4", options);
+  std::vector<const FrameSample*> last;
+  for (const FrameSample& f : all.frames) {
+    if (f.time_s >= 13.0 || f.time_s < 2.0) last.push_back(&f);
+  }
+  ASSERT_EQ(some.frames.size(), last.size());
+  ASSERT_GE(last.size(), 80u);
+  for (size_t k = 0; k < last.size(); ++k) {
+    const FrameSample& a = *last[k];
+    const FrameSample& b = some.frames[k];
+    ASSERT_EQ(a.frame, b.frame);
+    ASSERT_TRUE(a.registered && b.registered) << a.time_s;
+    // Located on the frames the tag is looked for (tag_stride) alike.
+    EXPECT_EQ(a.tag_corners.has_value(), b.tag_corners.has_value());
+    if (a.tag_corners && b.tag_corners) {
+      for (int c = 0; c < 4; ++c) {
+        EXPECT_EQ((*a.tag_corners)[c], (*b.tag_corners)[c]) << a.time_s;
+      }
+    }
+    for (size_t h = 0; h < a.heads.size(); ++h) {
+      const HeadObservation& oa = a.heads[h].observation;
+      const HeadObservation& ob = b.heads[h].observation;
+      ASSERT_TRUE(oa.complete && ob.complete) << a.time_s;
+      for (size_t d = 0; d < oa.dots.size(); ++d) {
+        EXPECT_EQ(oa.dots[d].pixel, ob.dots[d].pixel) << a.time_s;
+        EXPECT_EQ(oa.dots[d].binary_pixel, ob.dots[d].binary_pixel) << a.time_s;
+      }
+    }
+  }
+}
+
 TEST(MeasurementSamples, DeltaWindowsWithinFiveMicrons) {
   CheckSample("delta");
 }
