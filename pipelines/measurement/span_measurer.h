@@ -172,7 +172,6 @@ class SpanMeasurer {
     if (window_frames_) window_frames_->Finish();
   }
 
-  // Appends what was measured (later spans than `m` holds) to `m`.
   // When the first frame this measurer could not register was shown
   // (infinity: none).
   double first_unregistered_s() const { return first_unregistered_s_; }
