@@ -10,14 +10,16 @@ import sys
 
 
 class ReportTruth:
-    """Command-line arguments TRUTH.csv REPORT_DIR LABEL [--tests] read."""
+    """Command-line arguments TRUTH.csv REPORT_DIR LABEL [--FLAG...] read."""
 
-    def __init__(self, usage):
-        args = [a for a in sys.argv[1:] if a != "--tests"]
-        if len(args) != 3:
+    def __init__(self, usage, flags=("--tests",)):
+        args = [a for a in sys.argv[1:] if not a.startswith("--")]
+        self.flags = [a for a in sys.argv[1:] if a.startswith("--")]
+        unknown = [f for f in self.flags if f.split("=")[0] not in flags]
+        if len(args) != 3 or unknown:
             sys.exit(usage)
         truth_path, self.report, self.label = args
-        self.verbose = "--tests" in sys.argv
+        self.verbose = "--tests" in self.flags
         self.truth = list(csv.DictReader(open(truth_path)))
         self.summary = json.load(open(f"{self.report}/summary.json"))
         self.rows = list(csv.DictReader(open(f"{self.report}/results.csv")))

@@ -7,8 +7,10 @@
 # then the same with --windows-only.
 #   bench/run_coverage_bench.sh [FAMILY...]   (default: all, 4k last)
 # SOFTBENCH=path runs another build (a copy, while this one is rebuilt).
-# Families: still shaken hdr_portrait drift vfr low_bitrate 4k. A clip is
-# rendered once and kept; delete its folder to render it again.
+# Families: still shaken hdr_portrait drift vfr low_bitrate 4k; isp
+# sharpened sharpened_crf8 still_crf8 sharpened_1080p_crf8 (issue 28's, not
+# in the default). A clip is rendered once and kept; delete its folder to
+# render it again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 softbench=${SOFTBENCH:-./build/release/softbench}
@@ -32,6 +34,19 @@ family_options() {
     vfr) echo "--resolution 720p --vfr-jitter 0.5" ;;
     low_bitrate) echo "--resolution 720p --bitrate-mbps 0.5" ;;
     4k) echo "--resolution 4k" ;;
+    # A phone's image pipeline (issue 28): lens blur, an RGGB sensor with raw
+    # noise demosaiced, its own tone curves, noise reduction and sharpening.
+    isp) echo "--resolution 720p --isp" ;;
+    # Pixel-sharp edges under the phone's S-curve and strong sharpening: the
+    # largest per-dot pixel-phase bias (docs/measurement.md).
+    sharpened) echo "--resolution 720p --tone-curve 0.6 --sharpen 1.5,1.0" ;;
+    # The same at a high bit rate (CRF 8: about 22 Mb/s at 720p), where the
+    # codec's term no longer hides the dots' own errors; the plain still
+    # camera at that rate to compare; and 1080p, whose 17 px tag cells keep
+    # the tag's scale out of the processing.
+    sharpened_crf8) echo "--resolution 720p --tone-curve 0.6 --sharpen 1.5,1.0 --crf 8" ;;
+    still_crf8) echo "--resolution 720p --crf 8" ;;
+    sharpened_1080p_crf8) echo "--resolution 1080p --tone-curve 0.6 --sharpen 1.5,1.0 --crf 8" ;;
     *) echo "unknown family $1" >&2; exit 2 ;;
   esac
 }

@@ -116,7 +116,6 @@ BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
                PatchMask(static_mask, reference_luma.size(), tag),
                ScaledToFrame(options.patches, reference_luma.size())) {
   if (tag_) {
-    last_corners_ = tag_->corners;
     for (int c = 0; c < 4; ++c) {
       tag_rays_[c] = camera_.Undistort(tag_->corners[c]).homogeneous();
     }
@@ -124,6 +123,7 @@ BenchRegistration::BenchRegistration(const CameraIntrinsics& intrinsics,
   for (const Eigen::Vector2d& p : patches_.reference_px()) {
     patch_rays_.emplace_back(camera_.Undistort(p).homogeneous());
   }
+  Restart();  // the one place that knows a fresh registration's state
 }
 
 BenchRegistration::BenchRegistration(const BenchRegistration& other)

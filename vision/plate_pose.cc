@@ -134,4 +134,25 @@ PlatePose FitPlatePose(const std::vector<Eigen::Vector2d>& rest_dots_mm,
   return out;
 }
 
+double LiftSigmaFromDots(const std::vector<Eigen::Vector2d>& rest_dots_mm,
+                         const CameraAbovePlane& camera, double dot_sigma_mm,
+                         const PlatePoseOptions& options) {
+  // Each coordinate of each dot a standard deviation either way; half the
+  // lift's change is that coordinate's share (GUM's linear propagation, as
+  // the intrinsics' term does it).
+  double squares = 0.0;
+  for (size_t i = 0; i < rest_dots_mm.size(); ++i) {
+    for (int axis = 0; axis < 2; ++axis) {
+      std::vector<Eigen::Vector2d> up = rest_dots_mm, down = rest_dots_mm;
+      up[i][axis] += dot_sigma_mm;
+      down[i][axis] -= dot_sigma_mm;
+      const PlatePose a = FitPlatePose(rest_dots_mm, up, camera, options);
+      const PlatePose b = FitPlatePose(rest_dots_mm, down, camera, options);
+      if (!a.found || !b.found) return NAN;
+      squares += std::pow(0.5 * (a.lift_mm - b.lift_mm), 2);
+    }
+  }
+  return std::sqrt(squares);
+}
+
 }  // namespace softbench

@@ -77,6 +77,16 @@ PlatePose FitPlatePose(const std::vector<Eigen::Vector2d>& rest_dots_mm,
                        const CameraAbovePlane& camera,
                        const PlatePoseOptions& options = {});
 
+// The lift's standard deviation [mm] from each dot's own error: every
+// coordinate of every dot independent with standard deviation
+// `dot_sigma_mm`, propagated through FitPlatePose at rest. A phone's
+// sharpening moves each dot's centre by a few hundredths of a pixel with
+// its pixel phase, and the dots' spacing, which the lift is read from,
+// moves with them (docs/uncertainty.md). NaN when a fit fails.
+double LiftSigmaFromDots(const std::vector<Eigen::Vector2d>& rest_dots_mm,
+                         const CameraAbovePlane& camera, double dot_sigma_mm,
+                         const PlatePoseOptions& options = {});
+
 }  // namespace softbench
 
 #endif  // SOFTBENCH_VISION_PLATE_POSE_H_

@@ -13,6 +13,7 @@
 #include "pipelines/validation/uncertainty_budget.h"
 #include "util/check.h"
 #include "util/statistics.h"
+#include "vision/plate_pose.h"
 
 namespace softbench {
 namespace {
@@ -445,18 +446,22 @@ void ScoreHeads(const TestPlan& plan, const ForceModel& baseline,
 
 // A head's lift between its windows and the shift its parallax makes in
 // the displacement; the lift's uncertainty from the two windows' standard
-// errors and the codec's level in each (CodecLevel::lift_variance_mm2).
+// errors, the codec's level in each (CodecLevel::lift_variance_mm2) and
+// the dots' own errors in a change to each window (`lift_dots_mm`,
+// LiftSigmaFromDots).
 void AddLift(const std::array<WindowSummary, 3>& windows, int h,
-             const CodecLevel& codec, HeadScore* head) {
+             const CodecLevel& codec, const std::array<double, 3>& lift_dots_mm,
+             HeadScore* head) {
   const WindowSummary& initial = windows[kInitialWindow];
-  const auto change = [&](const WindowSummary& to, double* lift, double* u) {
-    *lift = to.lift_mm[h] - initial.lift_mm[h];
-    *u = std::hypot(initial.lift_standard_error_mm[h],
-                    to.lift_standard_error_mm[h],
-                    std::sqrt(2.0 * codec.lift_variance_mm2));
+  const auto change = [&](int k, double* lift, double* u) {
+    *lift = windows[k].lift_mm[h] - initial.lift_mm[h];
+    *u = std::hypot(std::hypot(initial.lift_standard_error_mm[h],
+                               windows[k].lift_standard_error_mm[h],
+                               std::sqrt(2.0 * codec.lift_variance_mm2)),
+                    lift_dots_mm[k]);
   };
-  change(windows[kActuatedWindow], &head->lift_mm, &head->u_lift_mm);
-  change(windows[kFinalWindow], &head->final_lift_mm, &head->u_final_lift_mm);
+  change(kActuatedWindow, &head->lift_mm, &head->u_lift_mm);
+  change(kFinalWindow, &head->final_lift_mm, &head->u_final_lift_mm);
   head->lift_shift_mm =
       (windows[kActuatedWindow].parallax_mm[h] - initial.parallax_mm[h]).norm();
 }
@@ -467,6 +472,9 @@ void AddLift(const std::array<WindowSummary, 3>& windows, int h,
 int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
                std::vector<TestScore>* tests) {
   const CodecLevel codec = MeasureCodecLevel(measurement);
+  const CameraAbovePlane camera = measurement.mapping
+                                      ? measurement.mapping->CameraAbove()
+                                      : CameraAbovePlane{};
   std::vector<const WindowSummary*> windows;
   for (const TestScore& t : *tests) {
     if (!t.measured) continue;
@@ -483,27 +491,45 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
     if (static_cast<size_t>(h) < measurement.rest_mm.size()) {
       context.rest_mm = measurement.rest_mm[h];
     }
-    double squares = 0.0;
-    for (const TestScore& t : *tests) {
-      if (!t.measured) continue;
-      for (int k : {kActuatedWindow, kFinalWindow}) {
+    // The dots' disagreement is pooled over the actuated changes and over
+    // the final ones apart: a dot's error under a phone's sharpening
+    // follows where its edge falls on the pixel grid, so it changes with a
+    // head that moved to its actuated place and mostly repeats in a head
+    // back at rest, and one sigma of both would understate the first.
+    std::array<HeadUncertaintyContext, 3> contexts;
+    std::array<double, 3> lift_dots_mm = {0.0, 0.0, 0.0};
+    for (int k : {kActuatedWindow, kFinalWindow}) {
+      HeadUncertaintyContext& c = contexts[k];
+      c = context;
+      double squares = 0.0;
+      for (const TestScore& t : *tests) {
+        if (!t.measured) continue;
         const RigidResidual r =
             DotsRigidResidual(t.windows[kInitialWindow], t.windows[k], h);
         squares += r.sum_of_squares_mm2;
-        context.dot_dof += r.dof;
+        c.dot_dof += r.dof;
       }
-    }
-    if (context.dot_dof > 0) {
-      context.dot_sigma_mm = std::sqrt(squares / context.dot_dof);
+      if (c.dot_dof == 0) continue;
+      c.dot_sigma_mm = std::sqrt(squares / c.dot_dof);
+      // In the lift too, which is read from the dots' spacing: a few
+      // hundredths of a pixel per dot are tenths of a millimetre of lift.
+      if (camera.height_mm > 0.0 && std::isfinite(camera.height_mm) &&
+          static_cast<size_t>(h) < measurement.rest_dots_mm.size() &&
+          measurement.rest_dots_mm[h].size() >= 2) {
+        lift_dots_mm[k] = LiftSigmaFromDots(measurement.rest_dots_mm[h], camera,
+                                            c.dot_sigma_mm);
+      }
     }
     for (TestScore& t : *tests) {
       if (!t.measured) continue;
       HeadScore& head = t.heads[h];
-      head.budget = ChangeBudget(t.windows[kInitialWindow],
-                                 t.windows[kActuatedWindow], h, context);
-      head.hysteresis_budget = ChangeBudget(
-          t.windows[kInitialWindow], t.windows[kFinalWindow], h, context);
-      AddLift(t.windows, h, codec, &head);
+      head.budget =
+          ChangeBudget(t.windows[kInitialWindow], t.windows[kActuatedWindow], h,
+                       contexts[kActuatedWindow]);
+      head.hysteresis_budget =
+          ChangeBudget(t.windows[kInitialWindow], t.windows[kFinalWindow], h,
+                       contexts[kFinalWindow]);
+      AddLift(t.windows, h, codec, lift_dots_mm, &head);
     }
   }
   return codec.jumps;

@@ -130,5 +130,31 @@ TEST(PlatePose, LiftScatterFollowsTheDotsScatter) {
   EXPECT_LT(sd, 0.1);
 }
 
+TEST(PlatePose, LiftSigmaFromDotsIsTheLiftsScatter) {
+  // Off the axis, where the tilts show and share the dots with the lift:
+  // the propagated sigma against the scatter of fits to noisy dots.
+  constexpr double kSigma = 0.002;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, kSigma);
+  const std::vector<Eigen::Vector2d> rest = Dots({45, 30});
+  double sum = 0.0, sum2 = 0.0;
+  constexpr int kTrials = 1000;
+  for (int t = 0; t < kTrials; ++t) {
+    std::vector<Eigen::Vector2d> seen = rest;
+    for (Eigen::Vector2d& d : seen)
+      d += Eigen::Vector2d(noise(rng), noise(rng));
+    const double lift = FitPlatePose(rest, seen, Bench()).lift_mm;
+    sum += lift;
+    sum2 += lift * lift;
+  }
+  const double sd = std::sqrt(sum2 / kTrials - std::pow(sum / kTrials, 2));
+  EXPECT_NEAR(LiftSigmaFromDots(rest, Bench(), kSigma), sd, 0.08 * sd);
+  // On the axis the lift is the dots' scale change alone: H sigma over the
+  // root sum of their squared distances from their centre (11.04 mm).
+  const std::vector<Eigen::Vector2d> on_axis = Dots({0, 0});
+  EXPECT_NEAR(LiftSigmaFromDots(on_axis, Bench(), kSigma),
+              475.0 * kSigma / std::sqrt(121.94), 0.002);
+}
+
 }  // namespace
 }  // namespace softbench

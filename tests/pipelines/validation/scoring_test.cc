@@ -88,5 +88,53 @@ TEST(ScoreTests, NeverCallsATestOkWithoutAPrediction) {
   EXPECT_EQ(result.model_errors[0].tests, 0);
 }
 
+// The dots' term of a budget, or -1 without one.
+double DotsTermMm(const UncertaintyBudget& budget) {
+  for (const UncertaintyTerm& term : budget.terms) {
+    if (term.name == "dots") return term.u_mm.x();
+  }
+  return -1.0;
+}
+
+// A phone's sharpening moves each dot by where its edge falls on the pixel
+// grid: an error that changes when the head moves and repeats when it is
+// back at rest. The actuated changes' dots disagree, the final ones' do
+// not, and each budget takes its own kind's disagreement.
+TEST(ScoreTests, PoolsTheDotsOfActuatedAndFinalChangesApart) {
+  TestPlan plan = ParseTestPlan(
+      "mechanism: delta\n"
+      "pressure_unit: psi\n"
+      "calibration: {mm_per_px: 0.1}\n"
+      "tests:\n"
+      "  - {id: t1, pressures: [6, 6, 0], actuate_s: 2, release_s: 5}\n"
+      "  - {id: t2, pressures: [0, 6, 6], actuate_s: 10, release_s: 13}\n"
+      "  - {id: t3, pressures: [6, 0, 6], actuate_s: 18, release_s: 21}\n",
+      "plan.yaml");
+  VideoMeasurement m = HeldMeasurement(plan, 26.0, 0.0);
+  const std::vector<Eigen::Vector2d> layout = {
+      {-5.5, -3.2}, {5.5, -3.2}, {0.0, 6.4}};
+  for (FrameSample& f : m.frames) {
+    for (HeadSample& head : f.heads) {
+      const Eigen::Vector2d at = head.observation.position_mm;
+      for (size_t d = 0; d < layout.size(); ++d) {
+        // A bias of 0.002 mm that follows the head's place, as a pixel
+        // phase does, and is the same at every return to rest.
+        const double phase = 1e3 * at.x() + 7e2 * at.y() + 2.1 * d;
+        DotObservation& dot = head.observation.dots.emplace_back();
+        dot.found = true;
+        dot.plane_mm =
+            at + layout[d] +
+            0.002 * Eigen::Vector2d(std::sin(phase), std::cos(1.3 * phase));
+      }
+    }
+  }
+  const ValidationResult result = ScoreTests(plan, m, ValidationOptions());
+  for (const TestScore& t : result.tests) {
+    ASSERT_TRUE(t.measured) << t.id;
+    EXPECT_GT(DotsTermMm(t.heads[0].budget), 4e-4) << t.id;
+    EXPECT_NEAR(DotsTermMm(t.heads[0].hysteresis_budget), 0.0, 1e-9) << t.id;
+  }
+}
+
 }  // namespace
 }  // namespace softbench
