@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,9 @@ namespace softbench {
 struct CameraAbovePlane {
   Eigen::Vector2d foot_mm = Eigen::Vector2d::Zero();
   double height_mm = 0.0;
+  // Whether there is one: a mapping from a tag seen below its dot plane
+  // has none, and lifts cannot be measured through it.
+  bool Found() const { return height_mm > 0.0 && std::isfinite(height_mm); }
 };
 
 // Image pixels to millimetres on the plane the dots move in, in the

@@ -443,7 +443,7 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
   const CameraAbovePlane camera = m->mapping->CameraAbove();
   // A mapping with no camera above the plane (none seen from a tag below
   // its dot plane) has no parallax to measure: lifts stay NaN.
-  if (!(camera.height_mm > 0.0 && std::isfinite(camera.height_mm))) return;
+  if (!camera.Found()) return;
   m->lift_corrected = options.correct_lift;
   RunParallelTasks(
       static_cast<int>(m->frames.size()), 0,

@@ -513,7 +513,7 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
       c.dot_sigma_mm = std::sqrt(squares / c.dot_dof);
       // In the lift too, which is read from the dots' spacing: a few
       // hundredths of a pixel per dot are tenths of a millimetre of lift.
-      if (camera.height_mm > 0.0 && std::isfinite(camera.height_mm) &&
+      if (camera.Found() &&
           static_cast<size_t>(h) < measurement.rest_dots_mm.size() &&
           measurement.rest_dots_mm[h].size() >= 2) {
         lift_dots_mm[k] = LiftSigmaFromDots(measurement.rest_dots_mm[h], camera,
