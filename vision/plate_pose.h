@@ -19,7 +19,11 @@ namespace softbench {
 // in-plane position.
 struct PlatePoseOptions {
   // One dot's standard error on the plane [mm]: weighs the tilt's prior
-  // against the dots (a few thousandths of a pixel at 0.2 mm/px).
+  // against the dots. `validate` sets it from the footage's scale
+  // (VideoMeasurementOptions::plate_dot_sigma_px). Set below what the
+  // footage leaves in the dots, it lets their errors pass for a tilt; near
+  // the camera's axis a tilt shows only as foreshortening, which the lift
+  // then makes up, so the lift is biased up (docs/measurement.md).
   double dot_sigma_mm = 0.001;
   // Prior standard deviation of each tilt about zero [rad] (a bench's
   // heads tilt by a degree or so). Off the camera's axis perspective shows

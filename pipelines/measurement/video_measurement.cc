@@ -27,6 +27,7 @@ std::optional<std::string> VideoMeasurementOptions::Problem() const {
   if (auto problem = registration.Problem()) return problem;
   if (auto problem = camera_path.Problem()) return problem;
   if (auto problem = plate_pose.Problem()) return "plate_pose: " + *problem;
+  if (!(plate_dot_sigma_px > 0.0)) return "plate_dot_sigma_px must be > 0";
   if (auto problem = camera_processing.Problem()) {
     return "camera_processing: " + *problem;
   }
@@ -445,6 +446,8 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
   // its dot plane) has no parallax to measure: lifts stay NaN.
   if (!camera.Found()) return;
   m->lift_corrected = options.correct_lift;
+  m->plate_pose = options.plate_pose;
+  m->plate_pose.dot_sigma_mm = options.plate_dot_sigma_px * m->mm_per_px;
   RunParallelTasks(
       static_cast<int>(m->frames.size()), 0,
       [&](int i) {
@@ -458,7 +461,7 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
             dots.push_back(d.plane_mm);
           }
           const PlatePose pose =
-              FitPlatePose(rest, dots, camera, options.plate_pose);
+              FitPlatePose(rest, dots, camera, m->plate_pose);
           if (!pose.found) continue;
           s.lift_mm = pose.lift_mm;
           s.tilt_rad = pose.tilt_rad;

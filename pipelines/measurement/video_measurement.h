@@ -49,7 +49,14 @@ struct VideoMeasurementOptions {
   // at 1080p and 10 Mb/s, and a head 50 mm off the camera's axis would
   // gain 0.01 mm of noise (docs/measurement.md, "Out of the plane").
   bool correct_lift = false;
+  // The pose's fit; its dot_sigma_mm is set from plate_dot_sigma_px at the
+  // footage's scale.
   PlatePoseOptions plate_pose;
+  // One dot's error that a window's frames share [px]: the codec's still
+  // picture (0.01-0.02 px at 10 Mb/s) and a phone's sharpening, whose bias
+  // follows the dot's pixel phase (docs/measurement.md). It weighs the
+  // plate's tilt prior against its dots.
+  double plate_dot_sigma_px = 0.02;
   // When the tag's border names an effect of the camera's processing.
   CameraProcessingOptions camera_processing;
   // Only the frames in these spans are measured, seeking from one to the
@@ -99,6 +106,9 @@ struct VideoMeasurement {
   // with the head complete): the reference of its lift and tilt
   // (HeadSample::lift_mm).
   std::vector<std::vector<Eigen::Vector2d>> rest_dots_mm;
+  // The options the lift and tilt were fitted with (MeasurePlatePoses), for
+  // the lift's uncertainty to be propagated through the same fit.
+  PlatePoseOptions plate_pose;
   // The displacements have the lift's parallax taken out
   // (VideoMeasurementOptions::correct_lift).
   bool lift_corrected = false;

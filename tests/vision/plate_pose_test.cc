@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <numbers>
 #include <random>
 
@@ -18,6 +19,27 @@ std::vector<Eigen::Vector2d> Dots(const Eigen::Vector2d& centre) {
   return {centre + Eigen::Vector2d(-5.5, -3.2),
           centre + Eigen::Vector2d(5.5, -3.2),
           centre + Eigen::Vector2d(0.0, 6.4)};
+}
+
+// The mean and standard deviation of the lifts fitted to `trials` copies
+// of `seen`, each coordinate moved by normal noise of `sigma_mm`.
+std::array<double, 2> LiftMeanAndScatter(
+    const std::vector<Eigen::Vector2d>& rest,
+    const std::vector<Eigen::Vector2d>& seen, double sigma_mm, unsigned seed,
+    int trials, const PlatePoseOptions& options = {}) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma_mm);
+  double sum = 0.0, sum2 = 0.0;
+  for (int t = 0; t < trials; ++t) {
+    std::vector<Eigen::Vector2d> noisy = seen;
+    for (Eigen::Vector2d& d : noisy)
+      d += Eigen::Vector2d(noise(rng), noise(rng));
+    const double lift = FitPlatePose(rest, noisy, Bench(), options).lift_mm;
+    sum += lift;
+    sum2 += lift * lift;
+  }
+  const double mean = sum / trials;
+  return {mean, std::sqrt(sum2 / trials - mean * mean)};
 }
 
 TEST(PlatePose, RestIsTheIdentity) {
@@ -106,23 +128,12 @@ TEST(PlatePose, ConvergesNearTheAxisWithinItsDefaultIterations) {
 TEST(PlatePose, LiftScatterFollowsTheDotsScatter) {
   // Dots with 0.0005 mm of noise (a few thousandths of a pixel): the lift
   // is found to the dots' relative precision times the camera's height.
-  std::mt19937 rng(7);
-  std::normal_distribution<double> noise(0.0, 0.0005);
   const std::vector<Eigen::Vector2d> rest = Dots({45, 30});
-  double sum = 0.0, sum2 = 0.0;
-  constexpr int kTrials = 400;
-  for (int t = 0; t < kTrials; ++t) {
-    std::vector<Eigen::Vector2d> seen =
-        ApparentDots(rest, Bench(), Eigen::Vector2d(45, 30), 0.5,
-                     Eigen::Vector2d::Zero(), 0);
-    for (Eigen::Vector2d& d : seen)
-      d += Eigen::Vector2d(noise(rng), noise(rng));
-    const double lift = FitPlatePose(rest, seen, Bench()).lift_mm;
-    sum += lift;
-    sum2 += lift * lift;
-  }
-  const double mean = sum / kTrials;
-  const double sd = std::sqrt(sum2 / kTrials - mean * mean);
+  const auto [mean, sd] =
+      LiftMeanAndScatter(rest,
+                         ApparentDots(rest, Bench(), Eigen::Vector2d(45, 30),
+                                      0.5, Eigen::Vector2d::Zero(), 0),
+                         0.0005, 7, 400);
   EXPECT_NEAR(mean, 0.5, 0.01);
   // About 0.0005 / 6 mm of relative spacing per dot, over 475 mm: ~0.04 mm;
   // well below 0.2 mm, and not zero.
@@ -134,26 +145,43 @@ TEST(PlatePose, LiftSigmaFromDotsIsTheLiftsScatter) {
   // Off the axis, where the tilts show and share the dots with the lift:
   // the propagated sigma against the scatter of fits to noisy dots.
   constexpr double kSigma = 0.002;
-  std::mt19937 rng(11);
-  std::normal_distribution<double> noise(0.0, kSigma);
   const std::vector<Eigen::Vector2d> rest = Dots({45, 30});
-  double sum = 0.0, sum2 = 0.0;
-  constexpr int kTrials = 1000;
-  for (int t = 0; t < kTrials; ++t) {
-    std::vector<Eigen::Vector2d> seen = rest;
-    for (Eigen::Vector2d& d : seen)
-      d += Eigen::Vector2d(noise(rng), noise(rng));
-    const double lift = FitPlatePose(rest, seen, Bench()).lift_mm;
-    sum += lift;
-    sum2 += lift * lift;
-  }
-  const double sd = std::sqrt(sum2 / kTrials - std::pow(sum / kTrials, 2));
+  const double sd = LiftMeanAndScatter(rest, rest, kSigma, 11, 1000)[1];
   EXPECT_NEAR(LiftSigmaFromDots(rest, Bench(), kSigma), sd, 0.08 * sd);
   // On the axis the lift is the dots' scale change alone: H sigma over the
   // root sum of their squared distances from their centre (11.04 mm).
   const std::vector<Eigen::Vector2d> on_axis = Dots({0, 0});
   EXPECT_NEAR(LiftSigmaFromDots(on_axis, Bench(), kSigma),
               475.0 * kSigma / std::sqrt(121.94), 0.002);
+}
+
+TEST(PlatePose, DotsWeighedAsTheyErrLeaveTheLiftUnbiasedNearTheAxis) {
+  // A flat head near the camera's foot, its dots off by what a codec and a
+  // phone's sharpening leave (0.02 px at 0.18 mm/px). Near the axis a tilt
+  // shows only as foreshortening, which the lift makes up: a fit told the
+  // dots are better than they are reads their errors as tilts and lifts
+  // the plate; weighed as they err, its lift is their scale change alone.
+  constexpr double kSigma = 0.0036;
+  const std::vector<Eigen::Vector2d> rest = Dots({8, -5});
+  const auto lifts = [&](double weighed_sigma_mm) {
+    PlatePoseOptions options;
+    options.dot_sigma_mm = weighed_sigma_mm;
+    return LiftMeanAndScatter(rest, rest, kSigma, 13, 1000, options);
+  };
+  PlatePoseOptions weighed;
+  weighed.dot_sigma_mm = kSigma;
+  const double propagated = LiftSigmaFromDots(rest, Bench(), kSigma, weighed);
+  const auto [mean, sd] = lifts(kSigma);
+  // What is left is the fit's own: the tilts still follow the dots within
+  // their prior (0.18 of the scatter here; none with the dots weighed at
+  // twice their error).
+  EXPECT_LT(std::abs(mean), 0.25 * propagated);
+  EXPECT_NEAR(sd, propagated, 0.1 * propagated);
+  // Told the dots are good to 0.001 mm (a still picture's precision), the
+  // fit lifts the plate by about the lift's whole scatter, and scatters more.
+  const auto [overconfident_mean, overconfident_sd] = lifts(0.001);
+  EXPECT_GT(overconfident_mean, 0.75 * propagated);
+  EXPECT_GT(overconfident_sd, 1.15 * propagated);
 }
 
 }  // namespace
