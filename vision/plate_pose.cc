@@ -68,7 +68,6 @@ Eigen::Vector2d Mean(const std::vector<Eigen::Vector2d>& points) {
 }  // namespace
 
 std::optional<std::string> PlatePoseOptions::Problem() const {
-  if (!(dot_sigma_mm > 0.0)) return "dot_sigma_mm must be > 0";
   if (!(tilt_prior_rad > 0.0)) return "tilt_prior_rad must be > 0";
   if (max_iterations < 1) return "max_iterations must be >= 1";
   return std::nullopt;
@@ -90,9 +89,10 @@ std::vector<Eigen::Vector2d> ApparentDots(
 
 PlatePose FitPlatePose(const std::vector<Eigen::Vector2d>& rest_dots_mm,
                        const std::vector<Eigen::Vector2d>& dots_mm,
-                       const CameraAbovePlane& camera,
+                       const CameraAbovePlane& camera, double dot_sigma_mm,
                        const PlatePoseOptions& options) {
   SOFTBENCH_CHECK(!options.Problem()) << *options.Problem();
+  SOFTBENCH_CHECK(dot_sigma_mm > 0.0) << "a dot's sigma must be > 0";
   SOFTBENCH_CHECK(rest_dots_mm.size() == dots_mm.size() && dots_mm.size() >= 2)
       << "a plate's pose needs the same two or more dots at rest and now";
   SOFTBENCH_CHECK(camera.height_mm > 0.0) << "the camera must be above";
@@ -104,9 +104,9 @@ PlatePose FitPlatePose(const std::vector<Eigen::Vector2d>& rest_dots_mm,
   Eigen::Matrix<double, kPoseSize, 1> pose;
   pose << centre.x(), centre.y(), 0.0, 0.0, 0.0,
       std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
-  const PoseResiduals residuals{rest_dots_mm,         dots_mm,
-                                rest_centre,          camera,
-                                options.dot_sigma_mm, options.tilt_prior_rad};
+  const PoseResiduals residuals{rest_dots_mm, dots_mm,
+                                rest_centre,  camera,
+                                dot_sigma_mm, options.tilt_prior_rad};
   using Function = ceres::TinySolverAutoDiffFunction<PoseResiduals,
                                                      Eigen::Dynamic, kPoseSize>;
   const Function function(residuals);
@@ -136,6 +136,7 @@ PlatePose FitPlatePose(const std::vector<Eigen::Vector2d>& rest_dots_mm,
 
 double LiftSigmaFromDots(const std::vector<Eigen::Vector2d>& rest_dots_mm,
                          const CameraAbovePlane& camera, double dot_sigma_mm,
+                         double fit_dot_sigma_mm,
                          const PlatePoseOptions& options) {
   // Each coordinate of each dot a standard deviation either way; half the
   // lift's change is that coordinate's share (GUM's linear propagation, as
@@ -146,8 +147,10 @@ double LiftSigmaFromDots(const std::vector<Eigen::Vector2d>& rest_dots_mm,
       std::vector<Eigen::Vector2d> up = rest_dots_mm, down = rest_dots_mm;
       up[i][axis] += dot_sigma_mm;
       down[i][axis] -= dot_sigma_mm;
-      const PlatePose a = FitPlatePose(rest_dots_mm, up, camera, options);
-      const PlatePose b = FitPlatePose(rest_dots_mm, down, camera, options);
+      const PlatePose a =
+          FitPlatePose(rest_dots_mm, up, camera, fit_dot_sigma_mm, options);
+      const PlatePose b =
+          FitPlatePose(rest_dots_mm, down, camera, fit_dot_sigma_mm, options);
       if (!a.found || !b.found) return NAN;
       squares += std::pow(0.5 * (a.lift_mm - b.lift_mm), 2);
     }

@@ -18,13 +18,6 @@ namespace softbench {
 // dots at rest give its pose: the lift, the two tilts, and its true
 // in-plane position.
 struct PlatePoseOptions {
-  // One dot's standard error on the plane [mm]: weighs the tilt's prior
-  // against the dots. `validate` sets it from the footage's scale
-  // (VideoMeasurementOptions::plate_dot_sigma_px). Set below what the
-  // footage leaves in the dots, it lets their errors pass for a tilt; near
-  // the camera's axis a tilt shows only as foreshortening, which the lift
-  // then makes up, so the lift is biased up (docs/measurement.md).
-  double dot_sigma_mm = 0.001;
   // Prior standard deviation of each tilt about zero [rad] (a bench's
   // heads tilt by a degree or so). Off the camera's axis perspective shows
   // a tilt to first order and the prior does not matter; on the axis only
@@ -75,20 +68,28 @@ std::vector<Eigen::Vector2d> ApparentDots(
 // The pose that shows `dots_mm` (the same dots as `rest_dots_mm`, in the
 // same order, through the plane's mapping), by least squares with a prior
 // on the tilts. Needs two dots or more (with two, the tilts rest on their
-// prior).
+// prior). `dot_sigma_mm` (> 0) is one dot coordinate's standard error on
+// the plane, which weighs the tilts' prior against the dots: `validate`
+// sets it from the footage's scale (VideoMeasurementOptions::
+// plate_dot_sigma_px). Set below what the footage leaves in the dots, it
+// lets their errors pass for a tilt; near the camera's axis a tilt shows
+// only as foreshortening, which the lift then makes up, so the lift is
+// biased up (docs/measurement.md).
 PlatePose FitPlatePose(const std::vector<Eigen::Vector2d>& rest_dots_mm,
                        const std::vector<Eigen::Vector2d>& dots_mm,
-                       const CameraAbovePlane& camera,
+                       const CameraAbovePlane& camera, double dot_sigma_mm,
                        const PlatePoseOptions& options = {});
 
 // The lift's standard deviation [mm] from each dot's own error: every
 // coordinate of every dot independent with standard deviation
-// `dot_sigma_mm`, propagated through FitPlatePose at rest. A phone's
+// `dot_sigma_mm`, propagated through FitPlatePose at rest with the dots
+// weighed at `fit_dot_sigma_mm`, as the lift was measured. A phone's
 // sharpening moves each dot's centre by a few hundredths of a pixel with
 // its pixel phase, and the dots' spacing, which the lift is read from,
 // moves with them (docs/uncertainty.md). NaN when a fit fails.
 double LiftSigmaFromDots(const std::vector<Eigen::Vector2d>& rest_dots_mm,
                          const CameraAbovePlane& camera, double dot_sigma_mm,
+                         double fit_dot_sigma_mm,
                          const PlatePoseOptions& options = {});
 
 }  // namespace softbench

@@ -447,7 +447,7 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
   if (!camera.Found()) return;
   m->lift_corrected = options.correct_lift;
   m->plate_pose = options.plate_pose;
-  m->plate_pose.dot_sigma_mm = options.plate_dot_sigma_px * m->mm_per_px;
+  m->plate_dot_sigma_mm = options.plate_dot_sigma_px * m->mm_per_px;
   RunParallelTasks(
       static_cast<int>(m->frames.size()), 0,
       [&](int i) {
@@ -460,8 +460,8 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
           for (const DotObservation& d : s.observation.dots) {
             dots.push_back(d.plane_mm);
           }
-          const PlatePose pose =
-              FitPlatePose(rest, dots, camera, m->plate_pose);
+          const PlatePose pose = FitPlatePose(
+              rest, dots, camera, m->plate_dot_sigma_mm, m->plate_pose);
           if (!pose.found) continue;
           s.lift_mm = pose.lift_mm;
           s.tilt_rad = pose.tilt_rad;

@@ -49,13 +49,13 @@ struct VideoMeasurementOptions {
   // at 1080p and 10 Mb/s, and a head 50 mm off the camera's axis would
   // gain 0.01 mm of noise (docs/measurement.md, "Out of the plane").
   bool correct_lift = false;
-  // The pose's fit; its dot_sigma_mm is set from plate_dot_sigma_px at the
-  // footage's scale.
+  // The pose's fit (FitPlatePose), its dots weighed at plate_dot_sigma_px.
   PlatePoseOptions plate_pose;
   // One dot's error that a window's frames share [px]: the codec's still
   // picture (0.01-0.02 px at 10 Mb/s) and a phone's sharpening, whose bias
   // follows the dot's pixel phase (docs/measurement.md). It weighs the
-  // plate's tilt prior against its dots.
+  // plate's tilt prior against its dots, at the footage's scale (times
+  // VideoMeasurement::mm_per_px).
   double plate_dot_sigma_px = 0.02;
   // When the tag's border names an effect of the camera's processing.
   CameraProcessingOptions camera_processing;
@@ -106,9 +106,11 @@ struct VideoMeasurement {
   // with the head complete): the reference of its lift and tilt
   // (HeadSample::lift_mm).
   std::vector<std::vector<Eigen::Vector2d>> rest_dots_mm;
-  // The options the lift and tilt were fitted with (MeasurePlatePoses), for
-  // the lift's uncertainty to be propagated through the same fit.
+  // The options and the dots' standard error [mm] the lift and tilt were
+  // fitted with (MeasurePlatePoses), for the lift's uncertainty to be
+  // propagated through the same fit.
   PlatePoseOptions plate_pose;
+  double plate_dot_sigma_mm = 0.0;
   // The displacements have the lift's parallax taken out
   // (VideoMeasurementOptions::correct_lift).
   bool lift_corrected = false;

@@ -516,9 +516,9 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
       if (camera.Found() &&
           static_cast<size_t>(h) < measurement.rest_dots_mm.size() &&
           measurement.rest_dots_mm[h].size() >= 2) {
-        lift_dots_mm[k] =
-            LiftSigmaFromDots(measurement.rest_dots_mm[h], camera,
-                              c.dot_sigma_mm, measurement.plate_pose);
+        lift_dots_mm[k] = LiftSigmaFromDots(
+            measurement.rest_dots_mm[h], camera, c.dot_sigma_mm,
+            measurement.plate_dot_sigma_mm, measurement.plate_pose);
       }
     }
     for (TestScore& t : *tests) {

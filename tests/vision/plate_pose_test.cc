@@ -15,6 +15,10 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 // the origin; a head's three dots about 11 mm apart.
 CameraAbovePlane Bench() { return {Eigen::Vector2d::Zero(), 475.0}; }
 
+// A dot's standard error in an uncompressed picture, weighing the fits of
+// exact or nearly exact dots.
+constexpr double kStillDotSigmaMm = 0.001;
+
 std::vector<Eigen::Vector2d> Dots(const Eigen::Vector2d& centre) {
   return {centre + Eigen::Vector2d(-5.5, -3.2),
           centre + Eigen::Vector2d(5.5, -3.2),
@@ -22,11 +26,12 @@ std::vector<Eigen::Vector2d> Dots(const Eigen::Vector2d& centre) {
 }
 
 // The mean and standard deviation of the lifts fitted to `trials` copies
-// of `seen`, each coordinate moved by normal noise of `sigma_mm`.
+// of `seen`, each coordinate moved by normal noise of `sigma_mm`, the fits
+// weighing the dots at `weighed_sigma_mm`.
 std::array<double, 2> LiftMeanAndScatter(
     const std::vector<Eigen::Vector2d>& rest,
     const std::vector<Eigen::Vector2d>& seen, double sigma_mm, unsigned seed,
-    int trials, const PlatePoseOptions& options = {}) {
+    int trials, double weighed_sigma_mm = kStillDotSigmaMm) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, sigma_mm);
   double sum = 0.0, sum2 = 0.0;
@@ -34,7 +39,8 @@ std::array<double, 2> LiftMeanAndScatter(
     std::vector<Eigen::Vector2d> noisy = seen;
     for (Eigen::Vector2d& d : noisy)
       d += Eigen::Vector2d(noise(rng), noise(rng));
-    const double lift = FitPlatePose(rest, noisy, Bench(), options).lift_mm;
+    const double lift =
+        FitPlatePose(rest, noisy, Bench(), weighed_sigma_mm).lift_mm;
     sum += lift;
     sum2 += lift * lift;
   }
@@ -44,7 +50,7 @@ std::array<double, 2> LiftMeanAndScatter(
 
 TEST(PlatePose, RestIsTheIdentity) {
   const std::vector<Eigen::Vector2d> rest = Dots({50, -20});
-  const PlatePose pose = FitPlatePose(rest, rest, Bench());
+  const PlatePose pose = FitPlatePose(rest, rest, Bench(), kStillDotSigmaMm);
   ASSERT_TRUE(pose.found) << pose.why_not;
   EXPECT_NEAR(pose.lift_mm, 0.0, 1e-9);
   EXPECT_LT(pose.tilt_rad.norm(), 1e-9);
@@ -74,7 +80,8 @@ TEST(PlatePose, RecoversLiftTiltAndPositionOffTheAxis) {
           Eigen::Vector2d(-0.6 * kDeg, 0.8 * kDeg)}) {
       const Eigen::Vector2d centre(61.2, 24.1);
       const PlatePose pose = FitPlatePose(
-          rest, ApparentDots(rest, Bench(), centre, lift, tilt, 0.02), Bench());
+          rest, ApparentDots(rest, Bench(), centre, lift, tilt, 0.02), Bench(),
+          kStillDotSigmaMm);
       ASSERT_TRUE(pose.found) << pose.why_not;
       // Exact data: only the tilt's prior pulls, and off the axis it
       // moves the lift by micrometres and the centre by less than one.
@@ -94,7 +101,7 @@ TEST(PlatePose, OnTheAxisTheLiftHoldsWhatTiltCannotShow) {
       FitPlatePose(rest,
                    ApparentDots(rest, Bench(), Eigen::Vector2d(0.5, -0.3), 0.4,
                                 Eigen::Vector2d(1 * kDeg, 0), 0),
-                   Bench());
+                   Bench(), kStillDotSigmaMm);
   ASSERT_TRUE(pose.found);
   EXPECT_NEAR(pose.lift_mm, 0.4, 0.04);
   EXPECT_LT((pose.centre_mm - Eigen::Vector2d(0.5, -0.3)).norm(), 1e-3);
@@ -117,8 +124,9 @@ TEST(PlatePose, ConvergesNearTheAxisWithinItsDefaultIterations) {
                      Eigen::Vector2d(0.5 * kDeg, -0.3 * kDeg), 0.01);
     for (Eigen::Vector2d& d : seen)
       d += Eigen::Vector2d(noise(rng), noise(rng));
-    const PlatePose fast = FitPlatePose(rest, seen, Bench());
-    const PlatePose slow = FitPlatePose(rest, seen, Bench(), patient);
+    const PlatePose fast = FitPlatePose(rest, seen, Bench(), kStillDotSigmaMm);
+    const PlatePose slow =
+        FitPlatePose(rest, seen, Bench(), kStillDotSigmaMm, patient);
     ASSERT_TRUE(fast.found && slow.found) << fast.why_not << slow.why_not;
     EXPECT_NEAR(fast.lift_mm, slow.lift_mm, 1e-3) << t;
     EXPECT_LT((fast.tilt_rad - slow.tilt_rad).norm(), 1e-4) << t;
@@ -147,11 +155,12 @@ TEST(PlatePose, LiftSigmaFromDotsIsTheLiftsScatter) {
   constexpr double kSigma = 0.002;
   const std::vector<Eigen::Vector2d> rest = Dots({45, 30});
   const double sd = LiftMeanAndScatter(rest, rest, kSigma, 11, 1000)[1];
-  EXPECT_NEAR(LiftSigmaFromDots(rest, Bench(), kSigma), sd, 0.08 * sd);
+  EXPECT_NEAR(LiftSigmaFromDots(rest, Bench(), kSigma, kStillDotSigmaMm), sd,
+              0.08 * sd);
   // On the axis the lift is the dots' scale change alone: H sigma over the
   // root sum of their squared distances from their centre (11.04 mm).
   const std::vector<Eigen::Vector2d> on_axis = Dots({0, 0});
-  EXPECT_NEAR(LiftSigmaFromDots(on_axis, Bench(), kSigma),
+  EXPECT_NEAR(LiftSigmaFromDots(on_axis, Bench(), kSigma, kStillDotSigmaMm),
               475.0 * kSigma / std::sqrt(121.94), 0.002);
 }
 
@@ -164,13 +173,9 @@ TEST(PlatePose, DotsWeighedAsTheyErrLeaveTheLiftUnbiasedNearTheAxis) {
   constexpr double kSigma = 0.0036;
   const std::vector<Eigen::Vector2d> rest = Dots({8, -5});
   const auto lifts = [&](double weighed_sigma_mm) {
-    PlatePoseOptions options;
-    options.dot_sigma_mm = weighed_sigma_mm;
-    return LiftMeanAndScatter(rest, rest, kSigma, 13, 1000, options);
+    return LiftMeanAndScatter(rest, rest, kSigma, 13, 1000, weighed_sigma_mm);
   };
-  PlatePoseOptions weighed;
-  weighed.dot_sigma_mm = kSigma;
-  const double propagated = LiftSigmaFromDots(rest, Bench(), kSigma, weighed);
+  const double propagated = LiftSigmaFromDots(rest, Bench(), kSigma, kSigma);
   const auto [mean, sd] = lifts(kSigma);
   // What is left is the fit's own: the tilts still follow the dots within
   // their prior (0.18 of the scatter here; none with the dots weighed at
@@ -179,7 +184,7 @@ TEST(PlatePose, DotsWeighedAsTheyErrLeaveTheLiftUnbiasedNearTheAxis) {
   EXPECT_NEAR(sd, propagated, 0.1 * propagated);
   // Told the dots are good to 0.001 mm (a still picture's precision), the
   // fit lifts the plate by about the lift's whole scatter, and scatters more.
-  const auto [overconfident_mean, overconfident_sd] = lifts(0.001);
+  const auto [overconfident_mean, overconfident_sd] = lifts(kStillDotSigmaMm);
   EXPECT_GT(overconfident_mean, 0.75 * propagated);
   EXPECT_GT(overconfident_sd, 1.15 * propagated);
 }

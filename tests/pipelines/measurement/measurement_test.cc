@@ -326,14 +326,13 @@ tests:
   const auto at_rest = dots(rest, 0);
   const auto now = dots(moved, kFrames);
   // The dots weighed as `validate` weighs them (MeasurePlatePoses).
-  PlatePoseOptions weighed;
-  weighed.dot_sigma_mm = VideoMeasurementOptions{}.plate_dot_sigma_px *
-                         mapping.MmPerPixelAt(Eigen::Vector2d(
-                             renderer.camera().intrinsics().cx_px,
-                             renderer.camera().intrinsics().cy_px));
+  const double dot_sigma_mm = VideoMeasurementOptions{}.plate_dot_sigma_px *
+                              mapping.MmPerPixelAt(Eigen::Vector2d(
+                                  renderer.camera().intrinsics().cx_px,
+                                  renderer.camera().intrinsics().cy_px));
   for (int head = 0; head < 2; ++head) {
-    const PlatePose pose =
-        FitPlatePose(at_rest[head], now[head], mapping.CameraAbove(), weighed);
+    const PlatePose pose = FitPlatePose(at_rest[head], now[head],
+                                        mapping.CameraAbove(), dot_sigma_mm);
     ASSERT_TRUE(pose.found) << pose.why_not;
     const Eigen::Vector2d truth = moved.segment<2>(2 * head);
     const double corrected =
