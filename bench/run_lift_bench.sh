@@ -9,7 +9,9 @@
 # SOFTBENCH=path runs another build. A clip is rendered once and kept.
 # LIFT_CRF=N renders at that x264 quality instead of 10 Mb/s (CRF 4 is
 # about 116 Mb/s at 1080p), into build/bench-lift/NAME-crfN: the bit rate's
-# share of the lift's error.
+# share of the lift's error. LIFT_HLG=1 renders as an iPhone writes by
+# default (HEVC Main 10, HLG, BT.2020) at the same 10 Mb/s, into
+# build/bench-lift/NAME-hlg: the codec's share at a phone's bit rate.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 softbench=${SOFTBENCH:-./build/release/softbench}
@@ -25,6 +27,10 @@ for name in "${names[@]}"; do
     label="$name, CRF $LIFT_CRF"
     dir=$out/$name-crf$LIFT_CRF
     quality=(--crf "$LIFT_CRF")
+  elif [[ -n ${LIFT_HLG:-} ]]; then
+    label="$name, HEVC 10-bit HLG"
+    dir=$out/$name-hlg
+    quality=(--bitrate-mbps 10 --codec hevc --bit-depth 10 --hdr hlg)
   fi
   mkdir -p "$dir"
   if [[ ! -f $dir/clip.mp4 ]]; then
