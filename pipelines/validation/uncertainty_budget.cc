@@ -243,6 +243,14 @@ UncertaintyBudget ChangeBudget(const WindowSummary& from,
                            context.rest_mm + from.median_mm[h],
                            context.rest_mm + to.median_mm[h])});
   }
+  const auto has_parallax = [h](const WindowSummary& w) {
+    return static_cast<size_t>(h) < w.parallax_mm.size() &&
+           w.parallax_mm[h].allFinite();
+  };
+  if (context.parallax_in_positions && has_parallax(from) && has_parallax(to)) {
+    budget.terms.push_back(
+        {"parallax", (to.parallax_mm[h] - from.parallax_mm[h]).cwiseAbs()});
+  }
   Eigen::Vector2d variance = Eigen::Vector2d::Zero();
   for (const UncertaintyTerm& term : budget.terms) {
     variance += term.u_mm.array().square().matrix();

@@ -14,7 +14,7 @@ struct WindowSummary;
 
 // One source of error in a measured change of a head's position.
 struct UncertaintyTerm {
-  // "window scatter", "dots", "codec", "scale", "intrinsics"
+  // "window scatter", "dots", "codec", "scale", "intrinsics", "parallax"
   std::string name;
   // Standard uncertainty of the change's y and z [mm].
   Eigen::Vector2d u_mm = Eigen::Vector2d::Zero();
@@ -62,6 +62,14 @@ struct HeadUncertaintyContext {
   // coordinates] that the windows' displacements are from.
   const IntrinsicsSensitivity* intrinsics = nullptr;
   Eigen::Vector2d rest_mm = Eigen::Vector2d::Zero();
+  // Whether the positions still carry the parallax of the head's lift and
+  // tilt (validate without --lift-correction). Then the parallax measured
+  // between the two windows is a known error left in the change, and its
+  // size per axis is a term (GUM F.2.4.5: an uncorrected systematic effect
+  // enlarges the uncertainty): a lifting head's displacement keeps a U
+  // that covers it, and a flat head's term is the lift's noise through its
+  // lever, which one camera cannot tell from a lift.
+  bool parallax_in_positions = false;
 };
 
 // HeadUncertaintyContext::scale_relative from the windows' dot medians of

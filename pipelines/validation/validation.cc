@@ -488,6 +488,7 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
     context.scale_relative =
         LayoutScaleUncertainty(windows, h, plan.markers[h].layout_mm);
     context.intrinsics = &measurement.intrinsics_sensitivity;
+    context.parallax_in_positions = !measurement.lift_corrected;
     if (static_cast<size_t>(h) < measurement.rest_mm.size()) {
       context.rest_mm = measurement.rest_mm[h];
     }
@@ -691,8 +692,9 @@ void WarnAboutLift(const TestPlan& plan, const VideoMeasurement& measurement,
           s.lift_shift_mm,
           measurement.lift_corrected
               ? "taken out (--lift-correction)"
-              : "left in: --lift-correction takes it out, at the cost of "
-                "the lift's noise (docs/measurement.md)"));
+              : "left in, and counted in its uncertainty: "
+                "--lift-correction takes it out, at the cost of the lift's "
+                "noise (docs/measurement.md)"));
     }
   }
 }

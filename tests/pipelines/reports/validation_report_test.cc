@@ -225,10 +225,20 @@ TEST_F(ValidationReportData, LiftChartHasEveryMeasuredTestsLift) {
   EXPECT_EQ(tests, (std::set<std::string>{"t1", "t2", "t3"}));
   int warned = 0;
   for (const std::string& w : v().result.warnings) {
-    warned += w.find("moved +0.300 mm") != std::string::npos &&
-              w.find("left in: --lift-correction") != std::string::npos;
+    warned +=
+        w.find("moved +0.300 mm") != std::string::npos &&
+        w.find("left in, and counted in its uncertainty") != std::string::npos;
   }
   EXPECT_EQ(warned, 3);
+  // And counted: the parallax left in each displacement is a term of its u.
+  for (const TestScore& t : v().result.tests) {
+    const std::vector<UncertaintyTerm>& terms = t.heads[0].budget.terms;
+    const auto parallax = std::find_if(
+        terms.begin(), terms.end(),
+        [](const UncertaintyTerm& u) { return u.name == "parallax"; });
+    ASSERT_NE(parallax, terms.end()) << t.id;
+    EXPECT_NEAR(parallax->u_mm.x(), 0.003, 1e-12) << t.id;
+  }
 }
 
 TEST_F(ValidationReportData, ErrorChartHasBothModelsForEveryScoredTest) {

@@ -228,6 +228,32 @@ TEST(UncertaintyBudget, HasTheIntrinsicsTermWhenTheirErrorsAreKnown) {
   EXPECT_EQ(ChangeBudget(from, to, 0, context).terms.size(), 1u);
 }
 
+// Positions that still carry the lift's parallax (no --lift-correction):
+// the parallax measured between the windows is a term, axis by axis, so a
+// lifting head's U covers the error it leaves; corrected positions, or
+// windows without a lift, have none.
+TEST(UncertaintyBudget, CountsTheParallaxLeftInThePositions) {
+  const std::vector<Eigen::Vector2d> dots = {{0, 0}, {1, 0}, {0, 1}};
+  WindowSummary from = WindowWithDots(dots), to = WindowWithDots(dots);
+  from.median_mm = {Eigen::Vector2d::Zero()};
+  to.median_mm = {Eigen::Vector2d(1.5, -0.8)};
+  from.parallax_mm = {Eigen::Vector2d(0.001, -0.002)};
+  to.parallax_mm = {Eigen::Vector2d(-0.020, 0.003)};
+  HeadUncertaintyContext context;
+  context.parallax_in_positions = true;
+  const UncertaintyBudget b = ChangeBudget(from, to, 0, context);
+  ASSERT_EQ(b.terms.size(), 2u);
+  EXPECT_EQ(b.terms[1].name, "parallax");
+  EXPECT_NEAR((b.terms[1].u_mm - Eigen::Vector2d(0.021, 0.005)).norm(), 0.0,
+              1e-15);
+  EXPECT_EQ(b.Largest(), "parallax");
+  context.parallax_in_positions = false;
+  EXPECT_EQ(ChangeBudget(from, to, 0, context).terms.size(), 1u);
+  context.parallax_in_positions = true;
+  to.parallax_mm = {Eigen::Vector2d::Constant(NAN)};  // no lift measured
+  EXPECT_EQ(ChangeBudget(from, to, 0, context).terms.size(), 1u);
+}
+
 // Hysteresis is judged against its U: a slip of 0.3 mm exceeds 0.05 mm
 // whatever the noise; one of 0.05 mm against 0.05 mm cannot be told.
 TEST(ScoreTests, JudgesHysteresisAgainstItsUncertainty) {
