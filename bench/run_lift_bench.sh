@@ -17,6 +17,10 @@ cd "$(dirname "$0")/.."
 softbench=${SOFTBENCH:-./build/release/softbench}
 [[ -x $softbench ]] || { echo "build first: cmake --build --preset release" >&2; exit 2; }
 out=build/bench-lift
+if [[ -n ${LIFT_CRF:-} && -n ${LIFT_HLG:-} ]]; then
+  echo "LIFT_CRF and LIFT_HLG name two encodings; set one" >&2
+  exit 2
+fi
 names=("$@")
 [[ ${#names[@]} -gt 0 ]] || names=(delta floating)
 for name in "${names[@]}"; do

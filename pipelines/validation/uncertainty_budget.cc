@@ -25,13 +25,14 @@ std::string UncertaintyBudget::Largest() const {
   return name;
 }
 
-RigidResidual DotsRigidResidual(const WindowSummary& from,
-                                const WindowSummary& to, int h) {
-  return DotsRigidResidual(from.dot_median_mm[h], to.dot_median_mm[h]);
+SimilarityResidual DotsSimilarityResidual(const WindowSummary& from,
+                                          const WindowSummary& to, int h) {
+  return DotsSimilarityResidual(from.dot_median_mm[h], to.dot_median_mm[h]);
 }
 
-RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& a,
-                                const std::vector<Eigen::Vector2d>& b) {
+SimilarityResidual DotsSimilarityResidual(
+    const std::vector<Eigen::Vector2d>& a,
+    const std::vector<Eigen::Vector2d>& b) {
   const int n = static_cast<int>(a.size());
   if (n < 3 || b.size() != a.size()) return {};
   Eigen::Vector2d centre = Eigen::Vector2d::Zero(),
@@ -49,14 +50,23 @@ RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& a,
     den += r.squaredNorm();
   }
   const double turn = den > 0.0 ? num / den : 0.0;
-  RigidResidual residual;
+  // A change of scale s moves it by s r: a head's lift h toward the camera
+  // at height H scales its dots by h / (H - h), which is the head's motion,
+  // not the dots' error. The shift's, turn's and scale's directions are
+  // orthogonal over the dots, so each is fitted on its own.
+  double scale_num = 0.0;
+  for (int d = 0; d < n; ++d) {
+    scale_num += (a[d] - centre).dot(b[d] - a[d] - shift);
+  }
+  const double scale = den > 0.0 ? scale_num / den : 0.0;
+  SimilarityResidual residual;
   for (int d = 0; d < n; ++d) {
     const Eigen::Vector2d r = a[d] - centre;
     const Eigen::Vector2d perp(-r.y(), r.x());
     residual.sum_of_squares_mm2 +=
-        (b[d] - a[d] - shift - turn * perp).squaredNorm();
+        (b[d] - a[d] - shift - turn * perp - scale * r).squaredNorm();
   }
-  residual.dof = 2 * n - 3;
+  residual.dof = 2 * n - 4;
   return residual;
 }
 
@@ -181,7 +191,7 @@ Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement,
       first_dots = dots;
       continue;
     }
-    const RigidResidual r = DotsRigidResidual(*first_dots, dots);
+    const SimilarityResidual r = DotsSimilarityResidual(*first_dots, dots);
     dot_squares += r.sum_of_squares_mm2;
     dot_dof += r.dof;
   }

@@ -37,10 +37,10 @@ struct UncertaintyBudget {
 
 // What every change of one head in a video shares.
 struct HeadUncertaintyContext {
-  // How far the head's dots disagree about a change once the head's rigid
-  // motion (shift and turn) is taken out, pooled over the video's changes:
-  // one dot's standard uncertainty per axis [mm], and the degrees of freedom
-  // behind it (0: not estimable, fewer than three dots).
+  // How far the head's dots disagree about a change once the head's own
+  // motion (shift, turn and the scale of a lift) is taken out, pooled over the
+  // video's changes: one dot's standard uncertainty per axis [mm], and the
+  // degrees of freedom behind it (0: not estimable, fewer than three dots).
   double dot_sigma_mm = 0.0;
   int dot_dof = 0;
   // The codec's error in a window's position, per axis [mm^2]: a still
@@ -117,18 +117,21 @@ struct CodecLevel {
 CodecLevel MeasureCodecLevel(const VideoMeasurement& measurement);
 
 // The dots' disagreement about the change from `from` to `to` for head `h`:
-// the residual sum of squares [mm^2] of a rigid fit (shift and turn) to the
-// dots' changes, and its degrees of freedom (2 n - 3; 0 with fewer than
-// three dots or a window without them).
-struct RigidResidual {
+// the residual sum of squares [mm^2] of a similarity fit (shift, small
+// turn and change of scale) to the dots' changes, and its degrees of
+// freedom (2 n - 4; 0 with fewer than three dots or a window without
+// them). The scale is fitted because a head's lift toward the camera
+// scales its dots (h / H); a rigid fit counted that as the dots' error.
+struct SimilarityResidual {
   double sum_of_squares_mm2 = 0.0;
   int dof = 0;
 };
-RigidResidual DotsRigidResidual(const WindowSummary& from,
-                                const WindowSummary& to, int h);
+SimilarityResidual DotsSimilarityResidual(const WindowSummary& from,
+                                          const WindowSummary& to, int h);
 // The same for two sets of the same dots (in the same order).
-RigidResidual DotsRigidResidual(const std::vector<Eigen::Vector2d>& from,
-                                const std::vector<Eigen::Vector2d>& to);
+SimilarityResidual DotsSimilarityResidual(
+    const std::vector<Eigen::Vector2d>& from,
+    const std::vector<Eigen::Vector2d>& to);
 
 // The standard uncertainty of head `h`'s position in one frame against its
 // rest position, per axis [mm], from what needs no windows (track's

@@ -505,8 +505,8 @@ int AddBudgets(const TestPlan& plan, const VideoMeasurement& measurement,
       double squares = 0.0;
       for (const TestScore& t : *tests) {
         if (!t.measured) continue;
-        const RigidResidual r =
-            DotsRigidResidual(t.windows[kInitialWindow], t.windows[k], h);
+        const SimilarityResidual r =
+            DotsSimilarityResidual(t.windows[kInitialWindow], t.windows[k], h);
         squares += r.sum_of_squares_mm2;
         c.dot_dof += r.dof;
       }

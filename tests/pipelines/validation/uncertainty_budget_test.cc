@@ -28,49 +28,64 @@ WindowSummary WindowWithDots(const std::vector<Eigen::Vector2d>& dots) {
   return w;
 }
 
-TEST(DotsRigidResidual, IsZeroForAShiftAndATurn) {
+// A head's own motion is not the dots' error: a shift, a turn and the
+// change of scale of a lift toward the camera leave no residual.
+TEST(DotsSimilarityResidual, IsZeroForAShiftATurnAndALiftsScale) {
   const std::vector<Eigen::Vector2d> before = {
       {-5.0, -2.9}, {5.0, -2.9}, {0.0, 5.8}};
-  const double turn = 2e-4;  // rad, as a head turns under load
+  const double turn = 2e-4;                  // rad, as a head turns under load
+  const double scale = 0.6 / (475.0 - 0.6);  // a 0.6 mm lift at 475 mm
   const Eigen::Rotation2Dd rotation(turn);
   std::vector<Eigen::Vector2d> after;
   for (const Eigen::Vector2d& p : before) {
-    after.emplace_back(rotation * p + Eigen::Vector2d(0.7, -0.4));
+    after.emplace_back((1.0 + scale) * (rotation * p) +
+                       Eigen::Vector2d(0.7, -0.4));
   }
-  const RigidResidual r =
-      DotsRigidResidual(WindowWithDots(before), WindowWithDots(after), 0);
-  EXPECT_EQ(r.dof, 3);
-  // The small-angle fit leaves turn^2 x radius: 2e-7 mm.
+  const SimilarityResidual r =
+      DotsSimilarityResidual(WindowWithDots(before), WindowWithDots(after), 0);
+  EXPECT_EQ(r.dof, 2);
+  // The small-angle fit leaves about turn^2 x radius: 2e-7 mm.
   EXPECT_LT(std::sqrt(r.sum_of_squares_mm2), 1e-6);
+  // A dot moved on its own is seen.
+  after[2].y() += 0.004;
+  EXPECT_GT(std::sqrt(DotsSimilarityResidual(WindowWithDots(before),
+                                             WindowWithDots(after), 0)
+                          .sum_of_squares_mm2),
+            0.002);
 }
 
 // Pooled over many changes, the residual estimates one dot's scatter: each
-// dot's change has the scatter of two windows, sqrt(2) sigma per axis.
-TEST(DotsRigidResidual, PooledEstimatesTheDotsScatter) {
+// dot's change has the scatter of two windows, sqrt(2) sigma per axis,
+// whatever the head's lift scales its dots by.
+TEST(DotsSimilarityResidual, PooledEstimatesTheDotsScatter) {
   std::mt19937 random(11);
   std::normal_distribution<double> normal(0.0, 0.003);
+  std::uniform_real_distribution<double> lift_scale(0.0, 0.0013);
   const std::vector<Eigen::Vector2d> layout = {
       {-5.0, -2.9}, {5.0, -2.9}, {0.0, 5.8}};
   double squares = 0.0;
   int dof = 0;
   for (int i = 0; i < 400; ++i) {
     std::vector<Eigen::Vector2d> a, b;
+    const double scale = 1.0 + lift_scale(random);
     for (const Eigen::Vector2d& p : layout) {
       a.emplace_back(p + Eigen::Vector2d(normal(random), normal(random)));
-      b.emplace_back(p + Eigen::Vector2d(1.0 + normal(random), normal(random)));
+      b.emplace_back(scale * p +
+                     Eigen::Vector2d(1.0 + normal(random), normal(random)));
     }
-    const RigidResidual r =
-        DotsRigidResidual(WindowWithDots(a), WindowWithDots(b), 0);
+    const SimilarityResidual r =
+        DotsSimilarityResidual(WindowWithDots(a), WindowWithDots(b), 0);
     squares += r.sum_of_squares_mm2;
     dof += r.dof;
   }
   EXPECT_NEAR(std::sqrt(squares / dof), std::sqrt(2.0) * 0.003, 0.0002);
 }
 
-TEST(DotsRigidResidual, NeedsThreeDots) {
+TEST(DotsSimilarityResidual, NeedsThreeDots) {
   const std::vector<Eigen::Vector2d> two = {{0.0, 0.0}, {10.0, 0.0}};
-  EXPECT_EQ(DotsRigidResidual(WindowWithDots(two), WindowWithDots(two), 0).dof,
-            0);
+  EXPECT_EQ(
+      DotsSimilarityResidual(WindowWithDots(two), WindowWithDots(two), 0).dof,
+      0);
 }
 
 TEST(UncertaintyBudget, AddsIndependentTermsInQuadrature) {
