@@ -41,23 +41,21 @@ SimilarityResidual DotsSimilarityResidual(
     centre += a[d] / n;
     shift += (b[d] - a[d]) / n;
   }
-  // A small turn w moves a dot at offset r by w (-r.y, r.x).
-  double num = 0.0, den = 0.0;
+  // A small turn w moves a dot at offset r by w (-r.y, r.x), and a change
+  // of scale s by s r: a head's lift h toward the camera at height H scales
+  // its dots by h / (H - h), which is the head's motion, not the dots'
+  // error. The shift's, turn's and scale's directions are orthogonal over
+  // the dots, so each is fitted on its own.
+  double turn_num = 0.0, scale_num = 0.0, den = 0.0;
   for (int d = 0; d < n; ++d) {
     const Eigen::Vector2d r = a[d] - centre;
     const Eigen::Vector2d perp(-r.y(), r.x());
-    num += perp.dot(b[d] - a[d] - shift);
+    const Eigen::Vector2d change = b[d] - a[d] - shift;
+    turn_num += perp.dot(change);
+    scale_num += r.dot(change);
     den += r.squaredNorm();
   }
-  const double turn = den > 0.0 ? num / den : 0.0;
-  // A change of scale s moves it by s r: a head's lift h toward the camera
-  // at height H scales its dots by h / (H - h), which is the head's motion,
-  // not the dots' error. The shift's, turn's and scale's directions are
-  // orthogonal over the dots, so each is fitted on its own.
-  double scale_num = 0.0;
-  for (int d = 0; d < n; ++d) {
-    scale_num += (a[d] - centre).dot(b[d] - a[d] - shift);
-  }
+  const double turn = den > 0.0 ? turn_num / den : 0.0;
   const double scale = den > 0.0 ? scale_num / den : 0.0;
   SimilarityResidual residual;
   for (int d = 0; d < n; ++d) {
@@ -253,13 +251,12 @@ UncertaintyBudget ChangeBudget(const WindowSummary& from,
                            context.rest_mm + from.median_mm[h],
                            context.rest_mm + to.median_mm[h])});
   }
-  const auto has_parallax = [h](const WindowSummary& w) {
-    return static_cast<size_t>(h) < w.parallax_mm.size() &&
-           w.parallax_mm[h].allFinite();
-  };
-  if (context.parallax_in_positions && has_parallax(from) && has_parallax(to)) {
-    budget.terms.push_back(
-        {"parallax", (to.parallax_mm[h] - from.parallax_mm[h]).cwiseAbs()});
+  if (context.parallax_in_positions) {
+    // NaN where either window has no lift: no term.
+    const Eigen::Vector2d parallax = to.parallax_mm[h] - from.parallax_mm[h];
+    if (parallax.allFinite()) {
+      budget.terms.push_back({"parallax", parallax.cwiseAbs()});
+    }
   }
   Eigen::Vector2d variance = Eigen::Vector2d::Zero();
   for (const UncertaintyTerm& term : budget.terms) {

@@ -20,11 +20,13 @@
 namespace softbench {
 namespace {
 
-// A window whose head `0` has dots at `dots` (its median positions).
+// A window whose head `0` has dots at `dots` (its median positions) and no
+// lift.
 WindowSummary WindowWithDots(const std::vector<Eigen::Vector2d>& dots) {
   WindowSummary w;
   w.dot_median_mm = {dots};
   w.standard_error_mm = {Eigen::Vector2d::Zero()};
+  w.parallax_mm = {Eigen::Vector2d::Constant(NAN)};  // no lift measured
   return w;
 }
 
