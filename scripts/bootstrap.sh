@@ -8,6 +8,7 @@ set -euo pipefail
 packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev
+  libboost-dev         # Boost.Math's chi-squared test (validate's lift correction)
   libfmt-dev libspdlog-dev libfast-float-dev
   libopencv-dev libapriltag-dev
   libssl-dev           # SHA-256 of every input a report names (OpenSSL)

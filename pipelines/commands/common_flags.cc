@@ -93,15 +93,6 @@ void AddNoRegistrationFlag(CLI::App* command, bool* no_registration) {
                     "every frame to the bench (the thesis's method)");
 }
 
-void AddLiftCorrectionFlag(CLI::App* command, bool* lift_correction) {
-  command->add_flag("--lift-correction", *lift_correction,
-                    "take the parallax of each head's measured lift and "
-                    "tilt out of its position (off by default: from the "
-                    "dots alone the lift is known to about 0.1 mm at 1080p, "
-                    "and off the camera's axis its noise can cost more "
-                    "than it removes; docs/measurement.md)");
-}
-
 void AddDecimalCommaFlag(CLI::App* command, bool* decimal_comma) {
   command->add_flag("--decimal-comma", *decimal_comma,
                     "the CSVs write numbers with a decimal comma (6,5) and "

@@ -25,8 +25,6 @@ void AddThreadsOption(CLI::App* command, int* threads);
 void AddRestOption(CLI::App* command, double* rest_s);
 // --no-registration: take the camera to be still.
 void AddNoRegistrationFlag(CLI::App* command, bool* no_registration);
-// --lift-correction (issue 27).
-void AddLiftCorrectionFlag(CLI::App* command, bool* lift_correction);
 // --decimal-comma: the input CSVs write numbers as 6,5 (fields separated by
 // ';' or tabs); without it a decimal comma is refused, never guessed.
 void AddDecimalCommaFlag(CLI::App* command, bool* decimal_comma);

@@ -18,7 +18,13 @@ void AddTrackCommand(CLI::App* c, TrackCommandOptions* options) {
   AddOutOption(c, &options->output_path, "trajectory CSV to write")->required();
   AddRestOption(c, &options->rest_s);
   AddNoRegistrationFlag(c, &options->no_registration);
-  AddLiftCorrectionFlag(c, &options->lift_correction);
+  c->add_flag("--lift-correction", options->lift_correction,
+              "take the parallax of each head's measured lift and tilt out "
+              "of its position (off by default: track has no test points "
+              "over which to tell a lift from the dots' noise, and from the "
+              "dots alone one frame's lift is known to about 0.1 mm at "
+              "1080p; validate decides from its tests; "
+              "docs/measurement.md)");
   c->add_flag("--full-frame", options->full_frame,
               "search the whole image in every frame (slow; for checks)");
 }

@@ -97,6 +97,12 @@ std::string SummaryText(const VideoValidation& v) {
             : "the report's Calibration says why none of it moves the "
               "measurement");
   }
+  // The lift's parallax: said where it was taken out or the user chose.
+  if (v.measurement.lift_corrected ||
+      v.lift_correction.mode != LiftCorrectionMode::kAuto) {
+    text += fmt::format("  the heads' lift and tilt: their parallax {}\n",
+                        v.lift_correction.reason);
+  }
   for (int h = 0; h < v.plan.mechanism.NumHeads(); ++h) {
     if (r.model_errors[h].tests == 0) {
       text += fmt::format("  {}: no test scored, so no model error\n",
@@ -140,7 +146,16 @@ void AddValidateCommand(CLI::App* c, ValidateCommandOptions* options) {
                 "its clock aligned by the motion");
   AddRestOption(c, &options->rest_s);
   AddNoRegistrationFlag(c, &options->no_registration);
-  AddLiftCorrectionFlag(c, &options->lift_correction);
+  CLI::Option* always =
+      c->add_flag("--lift-correction", options->lift_correction,
+                  "take the parallax of each head's measured lift and tilt "
+                  "out of its position always (by default: where the "
+                  "heads' lifts over the tests show they leave the plane; "
+                  "docs/measurement.md)");
+  c->add_flag("--no-lift-correction", options->no_lift_correction,
+              "leave the parallax in every head's position, counted in "
+              "its uncertainty")
+      ->excludes(always);
   AddDecimalCommaFlag(c, &options->decimal_comma);
   c->add_flag("--windows-only", options->windows_only,
               "read only the frames of the tests' windows, seeking between "
@@ -158,7 +173,10 @@ int RunValidate(const ValidateCommandOptions& options, std::ostream& out) {
   validation.rest_s = options.rest_s;
   validation.windows_only = options.windows_only;
   validation.register_frames = !options.no_registration;
-  validation.correct_lift = options.lift_correction;
+  validation.lift_correction.mode =
+      options.lift_correction      ? LiftCorrectionMode::kEveryHead
+      : options.no_lift_correction ? LiftCorrectionMode::kNone
+                                   : LiftCorrectionMode::kAuto;
   validation.progress = !options.quiet && options.video_paths.size() == 1;
   if (const std::optional<std::string> problem = validation.Problem()) {
     throw InputError("validate: " + *problem);

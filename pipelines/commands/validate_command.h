@@ -29,8 +29,11 @@ struct ValidateCommandOptions {
   // plan must give the times); trajectory.csv then holds those frames only.
   bool windows_only = false;
   bool no_registration = false;  // take the camera to be still
-  bool lift_correction = false;  // take out the heads' parallax
-  bool decimal_comma = false;    // the pressure log writes 6,5 (declared)
+  // Take the heads' parallax out always, or never; by default where their
+  // measured lifts show they leave the plane.
+  bool lift_correction = false;
+  bool no_lift_correction = false;
+  bool decimal_comma = false;  // the pressure log writes 6,5 (declared)
   bool quiet = false;
   // Scoring and detection (no flags: their defaults are the thesis's).
   VideoValidationOptions validation;

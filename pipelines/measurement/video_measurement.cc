@@ -445,7 +445,6 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
   // A mapping with no camera above the plane (none seen from a tag below
   // its dot plane) has no parallax to measure: lifts stay NaN.
   if (!camera.Found()) return;
-  m->lift_corrected = options.correct_lift;
   m->plate_pose = options.plate_pose;
   m->plate_dot_sigma_mm = options.plate_dot_sigma_px * m->mm_per_px;
   RunParallelTasks(
@@ -466,10 +465,10 @@ void MeasurePlatePoses(const VideoMeasurementOptions& options,
           s.lift_mm = pose.lift_mm;
           s.tilt_rad = pose.tilt_rad;
           s.parallax_mm = pose.parallax_mm;
-          if (options.correct_lift) s.displacement_mm -= pose.parallax_mm;
         }
       },
       [] {});
+  if (options.correct_lift) TakeOutParallax(m);
 }
 
 // "every frame, by 40 static patches and tag 3 (the tag on one frame in 4
@@ -521,6 +520,16 @@ void Finish(const TestPlan& plan, const VideoInfo& info,
 }
 
 }  // namespace
+
+void TakeOutParallax(VideoMeasurement* m) {
+  SOFTBENCH_CHECK(!m->lift_corrected) << "the parallax is taken out once";
+  for (FrameSample& f : m->frames) {
+    for (HeadSample& s : f.heads) {
+      if (s.parallax_mm.allFinite()) s.displacement_mm -= s.parallax_mm;
+    }
+  }
+  m->lift_corrected = true;
+}
 
 VideoReaderOptions MeasurementReaderOptions(bool every_frame) {
   // Frame threads for a run through every frame; one thread for windows

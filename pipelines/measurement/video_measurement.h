@@ -112,7 +112,7 @@ struct VideoMeasurement {
   PlatePoseOptions plate_pose;
   double plate_dot_sigma_mm = 0.0;
   // The displacements have the lift's parallax taken out
-  // (VideoMeasurementOptions::correct_lift).
+  // (VideoMeasurementOptions::correct_lift, or TakeOutParallax).
   bool lift_corrected = false;
   std::vector<FrameSample> frames;  // in time order
   double fps = 0.0;                 // average
@@ -162,6 +162,12 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
 VideoMeasurement MeasureVideo(const TestPlan& plan,
                               const std::string& video_path,
                               const VideoMeasurementOptions& options);
+
+// Takes each head's parallax (HeadSample::parallax_mm, where its pose was
+// found) out of its displacement in every frame, as correct_lift does while
+// measuring: for a caller that decides from the measured lifts whether the
+// heads left the plane (validate's automatic lift correction). Once only.
+void TakeOutParallax(VideoMeasurement* m);
 
 // How MeasureVideo wants its reader: luma only, frame threads when reading
 // every frame, one thread when seeking from window to window.

@@ -343,6 +343,12 @@ json SummaryJson(const VideoValidation& v) {
   root["frames"] = m.frames.size();
   root["every_frame"] = m.every_frame;
   root["lift_corrected"] = m.lift_corrected;
+  root["lift_correction"] = {
+      {"mode", LiftCorrectionModeName(v.lift_correction.mode)},
+      {"lifts", v.lift_correction.lifts},
+      {"chi_squared", JsonNumber(v.lift_correction.chi_squared)},
+      {"p_value", JsonNumber(v.lift_correction.p_value)},
+      {"reason", v.lift_correction.reason}};
   root["missing_dots"] = m.missing_dots;
   root["full_frame_frames"] = m.full_frame_frames;
   for (int h = 0; h < plan.mechanism.NumHeads(); ++h) {

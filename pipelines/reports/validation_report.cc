@@ -378,6 +378,8 @@ std::string ValidationReportHtml(const VideoValidation& v) {
   if (const nlohmann::json lift = LiftChart(plan, r);
       !lift["data"]["values"].empty()) {
     report.AddChart(lift);
+    report.AddParagraph("The heads' lift and tilt: their parallax " +
+                        v.lift_correction.reason + ".");
   }
   report.AddChart(TrajectoryChart(plan, m, r));
   if (m.registers_frames) report.AddChart(CameraMotionChart(m, r));

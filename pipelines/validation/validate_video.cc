@@ -33,7 +33,8 @@ VideoMeasurementOptions MeasurementOptions(
   VideoMeasurementOptions measure;
   measure.progress = options.progress;
   measure.register_frames = options.register_frames;
-  measure.correct_lift = options.correct_lift;
+  measure.correct_lift =
+      options.lift_correction.mode == LiftCorrectionMode::kEveryHead;
   measure.rest_s = times_known ? *plan.tests.front().actuate_s : options.rest_s;
   if (!times_known) {
     measure.window_frames = WindowFrameKeeperOptions{
@@ -128,6 +129,9 @@ std::optional<std::string> VideoValidationOptions::Problem() const {
   if (auto problem = codec_jump_spans.Problem()) {
     return "codec_jump_spans: " + *problem;
   }
+  if (auto problem = lift_correction.Problem()) {
+    return "lift_correction: " + *problem;
+  }
   return std::nullopt;
 }
 
@@ -173,14 +177,15 @@ VideoValidation ValidateVideo(TestPlan plan, const std::string& video_path,
   const std::string times_source =
       times_known ? "the plan"
                   : TimesFromVideo(m, log, options.detection, &plan);
-  ValidationResult result = ScoreTests(plan, m, options.scoring);
+  auto [result, lift] = ScoreTestsCorrectingLift(plan, options.scoring,
+                                                 options.lift_correction, &m);
   result.times_source = times_source;
   if (!times_known) {
     // The plan has its times now: the windows' crops, from the same reader.
     CaptureSnapshots(plan, WindowMiddles(PlanWindows(plan, m.last_frame_s)),
                      WindowFrameStrideS(plan), &reader, &m);
   }
-  return {std::move(plan), std::move(m), std::move(result), inputs.get()};
+  return {std::move(plan), std::move(m), std::move(result), inputs.get(), lift};
 }
 
 }  // namespace softbench

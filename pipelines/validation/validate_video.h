@@ -10,6 +10,7 @@
 #include "pipelines/measurement/test_point_detection.h"
 #include "pipelines/measurement/video_measurement.h"
 #include "pipelines/validation/codec_jump_spans.h"
+#include "pipelines/validation/lift_correction.h"
 #include "pipelines/validation/validation.h"
 
 namespace softbench {
@@ -32,7 +33,9 @@ struct VideoValidationOptions {
   // Register every frame to the bench; false takes the camera to be still
   // (the thesis's method).
   bool register_frames = true;
-  bool correct_lift = false;  // VideoMeasurementOptions::correct_lift
+  // Whether the heads' parallax is taken out of their positions: by
+  // default where their measured lifts show they leave the plane.
+  LiftCorrectionOptions lift_correction;
   bool progress = true;  // report progress (util/progress.h) while measuring
   ValidationOptions scoring;
   TestPointDetectionOptions detection;
@@ -67,6 +70,8 @@ struct VideoValidation {
   // constants are no file and not listed), hashed while the video is
   // measured.
   std::vector<InputFile> inputs;
+  // Whether the heads' parallax was taken out, and why.
+  LiftCorrectionDecision lift_correction;
 };
 
 // Validates the video at `video_path`, opened once for all of it. With a

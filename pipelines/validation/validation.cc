@@ -691,7 +691,7 @@ void WarnAboutLift(const TestPlan& plan, const VideoMeasurement& measurement,
           t.id, plan.mechanism.heads[h].name, s.lift_mm, s.u_lift_mm,
           s.lift_shift_mm,
           measurement.lift_corrected
-              ? "taken out (--lift-correction)"
+              ? "taken out"
               : "left in, and counted in its uncertainty: "
                 "--lift-correction takes it out, at the cost of the lift's "
                 "noise (docs/measurement.md)"));
@@ -764,6 +764,7 @@ ValidationResult ScoreTests(const TestPlan& plan,
     ScoreHeads(plan, baseline, &score);
   }
   const int codec_jumps = AddBudgets(plan, measurement, &result.tests);
+  result.codec_jumps = codec_jumps;
   for (TestScore& t : result.tests) {
     JudgeAgainstUncertainty(plan.hysteresis_tolerance_mm, &t);
   }

@@ -190,6 +190,9 @@ struct ValidationResult {
   int hysteresis_cannot_tell = 0;
   // The largest U = 2u of a scored displacement [mm].
   double largest_expanded_mm = NAN;
+  // The jumps of a still head at I pictures that the uncertainties' codec
+  // term rests on (MeasureCodecLevel; too few: see min_codec_jumps).
+  int codec_jumps = 0;
   std::vector<std::string> warnings;
   // The windows in which the camera moved (camera_motion_warning_px), each
   // once, as "b actuated" (a test's final window is the next one's

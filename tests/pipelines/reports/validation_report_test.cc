@@ -16,6 +16,7 @@
 
 #include "pipelines/reports/validation_charts.h"
 #include "pipelines/reports/validation_files.h"
+#include "pipelines/validation/lift_correction.h"
 #include "tests/support/held_measurement.h"
 #include "tests/support/report_page.h"
 #include "tests/support/scratch_directory.h"
@@ -55,12 +56,15 @@ class ValidationReportData : public ::testing::Test {
       f.heads[0].tilt_rad.setZero();
       f.heads[0].parallax_mm = Eigen::Vector2d(held ? 0.003 : 0.0, 0.0);
     }
-    ValidationResult r = ScoreTests(plan, m, ValidationOptions());
+    // Its parallax left in (--no-lift-correction), to be counted in u.
+    auto [r, lift] = ScoreTestsCorrectingLift(
+        plan, ValidationOptions(), {.mode = LiftCorrectionMode::kNone}, &m);
     validation_ = std::make_unique<VideoValidation>(
         VideoValidation{plan,
                         std::move(m),
                         std::move(r),
-                        {{"video", "bench/held.mp4", std::string(64, 'a')}}});
+                        {{"video", "bench/held.mp4", std::string(64, 'a')}},
+                        lift});
   }
   static void TearDownTestSuite() {
     validation_.reset();
@@ -156,6 +160,12 @@ TEST_F(ValidationReportData, SummaryJsonHasEveryTestsWindowsAndTheRepeat) {
   EXPECT_EQ(summary["repeats"][0]["tests"], json::array({"t1", "t3"}));
   EXPECT_EQ(summary["heads"][0]["model_error"]["tests"], 3);
   EXPECT_EQ(summary["inputs"][0]["file"], "held.mp4");
+  EXPECT_EQ(summary["lift_corrected"], false);
+  EXPECT_EQ(summary["lift_correction"]["mode"], "none");
+  EXPECT_EQ(summary["lift_correction"]["lifts"], 3);
+  EXPECT_NE(summary["lift_correction"]["reason"].get<std::string>().find(
+                "left in (--no-lift-correction)"),
+            std::string::npos);
 }
 
 std::vector<json> Charts(const VideoValidation& v) {
