@@ -43,11 +43,13 @@ struct VideoMeasurementOptions {
   CameraPathOptions camera_path;
   // Each head's lift and tilt out of the dot plane is measured in every
   // frame from its dots against their rest (vision/plate_pose.h); with
-  // correct_lift the parallax they cause is taken out of its position, so
-  // the displacement is the head's motion in the plane (issue 27). Off by
-  // default: from three dots 11 mm apart the lift is known to about 0.1 mm
-  // at 1080p and 10 Mb/s, and a head 50 mm off the camera's axis would
-  // gain 0.01 mm of noise (docs/measurement.md, "Out of the plane").
+  // correct_lift (track --lift-correction; validate decides after scoring,
+  // pipelines/validation/lift_correction.h) the parallax they cause is
+  // taken out of its position, so the displacement is the head's motion in
+  // the plane (issue 27). Off by default: from three dots 11 mm apart the lift
+  // is known to about 0.1 mm at 1080p and 10 Mb/s, and a head 50 mm off the
+  // camera's axis would gain 0.01 mm of noise (docs/measurement.md, "Out of the
+  // plane").
   bool correct_lift = false;
   // The pose's fit (FitPlatePose), its dots weighed at plate_dot_sigma_px.
   PlatePoseOptions plate_pose;
@@ -166,7 +168,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan,
 // Takes each head's parallax (HeadSample::parallax_mm, where its pose was
 // found) out of its displacement in every frame, as correct_lift does while
 // measuring: for a caller that decides from the measured lifts whether the
-// heads left the plane (validate's automatic lift correction). Once only.
+// heads left the plane (validate's lift correction). Once only.
 void TakeOutParallax(VideoMeasurement* m);
 
 // How MeasureVideo wants its reader: luma only, frame threads when reading

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "util/check.h"
@@ -58,7 +59,7 @@ LiftCorrectionDecision DecideLiftCorrection(
                 "chi-squared {:.1f} (p = {:.2g} for heads that stay "
                 "in the plane)",
                 decision.lifts, decision.chi_squared, decision.p_value)
-          : std::string("no lift was measured");
+          : std::string("no test's lift was measured");
   switch (options.mode) {
     case LiftCorrectionMode::kEveryHead:
       decision.correct = true;
@@ -105,11 +106,25 @@ LiftCorrectedScore ScoreTestsCorrectingLift(
   score.result = ScoreTests(plan, *measurement, scoring);
   score.decision =
       DecideLiftCorrection(score.result, scoring.min_codec_jumps, options);
-  if (score.decision.correct && !measurement->lift_corrected &&
-      score.decision.lifts > 0) {
-    TakeOutParallax(measurement);
-    score.result = ScoreTests(plan, *measurement, scoring);
+  SOFTBENCH_CHECK(!measurement->lift_corrected)
+      << "validate's positions are corrected here only";
+  if (!score.decision.correct) return score;
+  const bool has_parallax =
+      std::ranges::any_of(measurement->frames, [](const FrameSample& f) {
+        return std::ranges::any_of(f.heads, [](const HeadSample& s) {
+          return s.parallax_mm.allFinite();
+        });
+      });
+  if (!has_parallax) {
+    score.decision.correct = false;
+    score.decision.reason =
+        "nothing taken out: no head's lift was measured in any frame (that "
+        "needs the camera's place above the plane and a head's dots "
+        "complete)";
+    return score;
   }
+  TakeOutParallax(measurement);
+  score.result = ScoreTests(plan, *measurement, scoring);
   return score;
 }
 

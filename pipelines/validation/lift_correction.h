@@ -59,9 +59,11 @@ LiftCorrectionDecision DecideLiftCorrection(
     const LiftCorrectionOptions& options);
 
 // A plan's tests scored (ScoreTests), with the lift correction decided
-// from that score: where it asks for the parallax to come out and the
-// measurement still carries it (kAuto), it is taken out of `measurement`
-// (TakeOutParallax) and the tests are scored again.
+// from that score: where it asks for the parallax to come out, it is taken
+// out of `measurement` (TakeOutParallax) and the tests are scored again.
+// The one place validate corrects: a measurement with no parallax in any
+// frame (no camera above the plane) is left as it is, and the decision
+// says so rather than that it was corrected.
 struct LiftCorrectedScore {
   ValidationResult result;
   LiftCorrectionDecision decision;

@@ -33,8 +33,6 @@ VideoMeasurementOptions MeasurementOptions(
   VideoMeasurementOptions measure;
   measure.progress = options.progress;
   measure.register_frames = options.register_frames;
-  measure.correct_lift =
-      options.lift_correction.mode == LiftCorrectionMode::kEveryHead;
   measure.rest_s = times_known ? *plan.tests.front().actuate_s : options.rest_s;
   if (!times_known) {
     measure.window_frames = WindowFrameKeeperOptions{

@@ -1,5 +1,6 @@
 #include "tests/support/held_measurement.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -57,6 +58,37 @@ VideoMeasurement HeldMeasurement(const TestPlan& plan, double end_s,
     m.last_frame_s = frame.time_s;
   }
   return m;
+}
+
+TestPlan HeldDeltaPlan(const std::string& more_tests) {
+  return ParseTestPlan(
+      "mechanism: delta\n"
+      "pressure_unit: psi\n"
+      "calibration: {mm_per_px: 0.1}\n"
+      "tests:\n"
+      "  - {id: t1, pressures: [6, 6, 0], actuate_s: 2, release_s: 5}\n"
+      "  - {id: t2, pressures: [0, 6, 6], actuate_s: 8, release_s: 11}\n"
+      "  - {id: t3, pressures: [6, 6, 0], actuate_s: 14, release_s: 17}\n" +
+          more_tests,
+      "plan.yaml");
+}
+
+void LiftHeldHead(const TestPlan& plan, double lift_mm, double noise_mm,
+                  double parallax_per_lift, VideoMeasurement* m) {
+  std::mt19937 random(32);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (FrameSample& f : m->frames) {
+    f.intra = f.frame % 15 == 0;
+    const bool held = std::any_of(
+        plan.tests.begin(), plan.tests.end(), [&](const TestPoint& t) {
+          return t.actuate_s && t.release_s && f.time_s >= *t.actuate_s + 0.5 &&
+                 f.time_s < *t.release_s;
+        });
+    HeadSample& s = f.heads[0];
+    s.lift_mm = (held ? lift_mm : 0.0) + noise_mm * noise(random);
+    s.tilt_rad.setZero();
+    s.parallax_mm = Eigen::Vector2d(parallax_per_lift * s.lift_mm, 0.0);
+  }
 }
 
 VideoMeasurement SettlingMeasurement(const std::vector<HeadStep>& steps,

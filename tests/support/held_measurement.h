@@ -2,6 +2,7 @@
 #define SOFTBENCH_TESTS_SUPPORT_HELD_MEASUREMENT_H_
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "pipelines/formats/test_plan.h"
@@ -19,6 +20,20 @@ namespace softbench {
 // (0.1 when it gives none).
 VideoMeasurement HeldMeasurement(const TestPlan& plan, double end_s,
                                  double after_release_mm);
+
+// A delta plan of three timed tests (t3 repeats t1's pressures), actuated
+// at 2, 8 and 14 s and released 3 s later, in psi at 0.1 mm/px, followed by
+// `more_tests` (YAML list items, e.g. a skipped test).
+TestPlan HeldDeltaPlan(const std::string& more_tests = "");
+
+// Gives `m` an I picture every 15 frames (so the codec's term has its
+// jumps) and raises head 0 toward the camera by `lift_mm` while a test
+// holds it (from 0.5 s after its actuate_s to its release_s), each frame's
+// lift with Gaussian noise of `noise_mm` (fixed seed), and records its
+// parallax as `parallax_per_lift` mm along y per mm of lift. The positions
+// are not moved.
+void LiftHeldHead(const TestPlan& plan, double lift_mm, double noise_mm,
+                  double parallax_per_lift, VideoMeasurement* m);
 
 // A pressure step of one head: toward `target_mm` from actuate_s, back to
 // rest from release_s.

@@ -34,28 +34,12 @@ class ValidationReportData : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     scratch_ = std::make_unique<ScratchDirectory>();
-    const TestPlan plan = ParseTestPlan(
-        "mechanism: delta\n"
-        "pressure_unit: psi\n"
-        "calibration: {mm_per_px: 0.1}\n"
-        "tests:\n"
-        "  - {id: t1, pressures: [6, 6, 0], actuate_s: 2, release_s: 5}\n"
-        "  - {id: t2, pressures: [0, 6, 6], actuate_s: 8, release_s: 11}\n"
-        "  - {id: t3, pressures: [6, 6, 0], actuate_s: 14, release_s: 17}\n"
-        "  - {id: t4, pressures: [6, 0, 6], skipped: true}\n",
-        "plan.yaml");
+    const TestPlan plan =
+        HeldDeltaPlan("  - {id: t4, pressures: [6, 0, 6], skipped: true}\n");
+    // The head rises 0.3 mm toward the camera while actuated, its parallax
+    // recorded but not in its positions.
     VideoMeasurement m = HeldMeasurement(plan, 20.0, 0.0);
-    // The head rises 0.3 mm toward the camera while actuated; an I picture
-    // every 15 frames gives the codec's term its jumps (of zero).
-    for (FrameSample& f : m.frames) {
-      f.intra = f.frame % 15 == 0;
-      const bool held = (f.time_s >= 2.5 && f.time_s < 5) ||
-                        (f.time_s >= 8.5 && f.time_s < 11) ||
-                        (f.time_s >= 14.5 && f.time_s < 17);
-      f.heads[0].lift_mm = held ? 0.3 : 0.0;
-      f.heads[0].tilt_rad.setZero();
-      f.heads[0].parallax_mm = Eigen::Vector2d(held ? 0.003 : 0.0, 0.0);
-    }
+    LiftHeldHead(plan, 0.3, 0.0, 0.01, &m);
     // Its parallax left in (--no-lift-correction), to be counted in u.
     auto [r, lift] = ScoreTestsCorrectingLift(
         plan, ValidationOptions(), {.mode = LiftCorrectionMode::kNone}, &m);

@@ -138,44 +138,23 @@ TEST(LiftCorrectionOptions, SignificanceMustBeAProbability) {
   }
 }
 
-// A made-up delta measurement whose head rises `lift_mm` while actuated
-// (each frame's lift with noise of 0.05 mm), its parallax 0.01 mm along y
-// per millimetre of lift, and an I picture every 15 frames.
+// A made-up delta measurement whose head rises `lift_mm` while held (each
+// frame's lift with noise of 0.05 mm), its dots' apparent centre moved by
+// its parallax of 0.01 mm along y per millimetre of lift.
 VideoMeasurement LiftingMeasurement(const TestPlan& plan, double lift_mm) {
   VideoMeasurement m = HeldMeasurement(plan, 20.0, 0.0);
-  std::mt19937 random(32);
-  std::normal_distribution<double> noise(0.0, 0.05);
+  LiftHeldHead(plan, lift_mm, 0.05, 0.01, &m);
   for (FrameSample& f : m.frames) {
-    f.intra = f.frame % 15 == 0;
-    const bool held = (f.time_s >= 2.5 && f.time_s < 5) ||
-                      (f.time_s >= 8.5 && f.time_s < 11) ||
-                      (f.time_s >= 14.5 && f.time_s < 17);
-    HeadSample& s = f.heads[0];
-    s.lift_mm = (held ? lift_mm : 0.0) + noise(random);
-    s.tilt_rad.setZero();
-    s.parallax_mm = Eigen::Vector2d(0.01 * s.lift_mm, 0.0);
-    s.displacement_mm += s.parallax_mm;  // the dots' apparent centre
+    f.heads[0].displacement_mm += f.heads[0].parallax_mm;
   }
   return m;
-}
-
-TestPlan ThreeDeltaTests() {
-  return ParseTestPlan(
-      "mechanism: delta\n"
-      "pressure_unit: psi\n"
-      "calibration: {mm_per_px: 0.1}\n"
-      "tests:\n"
-      "  - {id: t1, pressures: [6, 6, 0], actuate_s: 2, release_s: 5}\n"
-      "  - {id: t2, pressures: [0, 6, 6], actuate_s: 8, release_s: 11}\n"
-      "  - {id: t3, pressures: [6, 6, 0], actuate_s: 14, release_s: 17}\n",
-      "plan.yaml");
 }
 
 // A head that rises 0.5 mm: auto takes its parallax out of every frame and
 // scores again, so the displacement is the head's motion in the plane and
 // its budget has no parallax term.
 TEST(ScoreTestsCorrectingLift, TakesOutTheParallaxOfHeadsThatLift) {
-  const TestPlan plan = ThreeDeltaTests();
+  const TestPlan plan = HeldDeltaPlan();
   VideoMeasurement m = LiftingMeasurement(plan, 0.5);
   const VideoMeasurement before = m;
   const ValidationResult left_in = ScoreTests(plan, m, ValidationOptions());
@@ -203,7 +182,7 @@ TEST(ScoreTestsCorrectingLift, TakesOutTheParallaxOfHeadsThatLift) {
 
 // A head that stays in the plane is scored once, its positions as measured.
 TEST(ScoreTestsCorrectingLift, LeavesFlatHeadsAsMeasured) {
-  const TestPlan plan = ThreeDeltaTests();
+  const TestPlan plan = HeldDeltaPlan();
   VideoMeasurement m = LiftingMeasurement(plan, 0.0);
   const VideoMeasurement before = m;
   const LiftCorrectedScore score =
@@ -211,6 +190,24 @@ TEST(ScoreTestsCorrectingLift, LeavesFlatHeadsAsMeasured) {
   EXPECT_FALSE(score.decision.correct) << score.decision.reason;
   EXPECT_EQ(score.decision.lifts, 3);
   EXPECT_FALSE(m.lift_corrected);
+  for (size_t i = 0; i < m.frames.size(); ++i) {
+    EXPECT_EQ(m.frames[i].heads[0].displacement_mm,
+              before.frames[i].heads[0].displacement_mm);
+  }
+}
+
+// --lift-correction where no frame has a lift (no pose fitted): nothing is
+// taken out, and the decision says so rather than that it corrected.
+TEST(ScoreTestsCorrectingLift, SaysWhenThereIsNothingToTakeOut) {
+  const TestPlan plan = HeldDeltaPlan();
+  VideoMeasurement m = HeldMeasurement(plan, 20.0, 0.0);  // no poses
+  const VideoMeasurement before = m;
+  const LiftCorrectedScore score = ScoreTestsCorrectingLift(
+      plan, ValidationOptions(), {.mode = LiftCorrectionMode::kEveryHead}, &m);
+  EXPECT_FALSE(score.decision.correct);
+  EXPECT_FALSE(m.lift_corrected);
+  EXPECT_NE(score.decision.reason.find("nothing taken out"), std::string::npos)
+      << score.decision.reason;
   for (size_t i = 0; i < m.frames.size(); ++i) {
     EXPECT_EQ(m.frames[i].heads[0].displacement_mm,
               before.frames[i].heads[0].displacement_mm);
