@@ -460,31 +460,6 @@ Eigen::Vector2d Intersect(const Eigen::Vector2d& p1, const Eigen::Vector2d& d1,
   return p1 + st[0] * d1;
 }
 
-// The homography taking the four points `from` exactly to `to`: the eight
-// equations of its entries with the last one 1, solved in double precision;
-// nullopt when the points are no quadrilateral. (cv::findHomography solves
-// the same with a normalisation and a refinement that took a sixth of the
-// tag's time in every frame.)
-std::optional<Eigen::Matrix3d> HomographyThrough(
-    const std::array<Eigen::Vector2d, 4>& from,
-    const std::array<Eigen::Vector2d, 4>& to) {
-  Eigen::Matrix<double, 8, 8> a;
-  Eigen::Matrix<double, 8, 1> b;
-  for (int c = 0; c < 4; ++c) {
-    const double x = from[c].x(), y = from[c].y();
-    const double u = to[c].x(), v = to[c].y();
-    a.row(2 * c) << x, y, 1, 0, 0, 0, -u * x, -u * y;
-    a.row(2 * c + 1) << 0, 0, 0, x, y, 1, -v * x, -v * y;
-    b(2 * c) = u, b(2 * c + 1) = v;
-  }
-  const Eigen::FullPivLU<Eigen::Matrix<double, 8, 8>> lu(a);
-  if (!lu.isInvertible()) return std::nullopt;
-  const Eigen::Matrix<double, 8, 1> h = lu.solve(b);
-  Eigen::Matrix3d homography;
-  homography << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), 1.0;
-  return homography;
-}
-
 // The outer corners from the border's midlines (FitBorderSideOf): the
 // midlines meet at the corners of a square 7 cells across, and the plane's
 // homography through them gives the black border's corners 8 cells across.
@@ -719,6 +694,26 @@ std::array<Eigen::Vector2d, 4> AverageTagCorners(
   for (Eigen::Vector2d& corner : sum)
     corner /= static_cast<double>(frames.size());
   return sum;
+}
+
+std::optional<Eigen::Matrix3d> HomographyThrough(
+    const std::array<Eigen::Vector2d, 4>& from,
+    const std::array<Eigen::Vector2d, 4>& to) {
+  Eigen::Matrix<double, 8, 8> a;
+  Eigen::Matrix<double, 8, 1> b;
+  for (int c = 0; c < 4; ++c) {
+    const double x = from[c].x(), y = from[c].y();
+    const double u = to[c].x(), v = to[c].y();
+    a.row(2 * c) << x, y, 1, 0, 0, 0, -u * x, -u * y;
+    a.row(2 * c + 1) << 0, 0, 0, x, y, 1, -v * x, -v * y;
+    b(2 * c) = u, b(2 * c + 1) = v;
+  }
+  const Eigen::FullPivLU<Eigen::Matrix<double, 8, 8>> lu(a);
+  if (!lu.isInvertible()) return std::nullopt;
+  const Eigen::Matrix<double, 8, 1> h = lu.solve(b);
+  Eigen::Matrix3d homography;
+  homography << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), 1.0;
+  return homography;
 }
 
 }  // namespace softbench

@@ -112,31 +112,65 @@ CameraProcessing DescribeCameraProcessing(
   return out;
 }
 
-void NoteTagCells(const std::array<Eigen::Vector2d, 4>& tag_corners,
-                  const CameraProcessingOptions& options,
-                  CameraProcessing* processing) {
+namespace {
+
+double TagCellPx(const std::array<Eigen::Vector2d, 4>& tag_corners) {
   double side_px = 0.0;
   for (int c = 0; c < 4; ++c) {
     side_px += (tag_corners[(c + 1) % 4] - tag_corners[c]).norm() / 4.0;
   }
-  processing->tag_cell_px = side_px / kTagCellsAcross;
+  return side_px / kTagCellsAcross;
+}
+
+}  // namespace
+
+bool TagScaleAtRisk(const std::array<Eigen::Vector2d, 4>& tag_corners,
+                    const CameraProcessingOptions& options,
+                    const CameraProcessing& processing) {
   const bool codes_processed =
-      processing->sharpened ||
-      std::abs(processing->signs.edge_shift_px) > options.edge_shift_px;
-  processing->tag_scale_at_risk =
-      codes_processed && processing->tag_cell_px < options.min_cell_px;
-  if (!processing->tag_scale_at_risk) return;
-  processing->tag_cells_wanted_px = options.min_cell_px;
+      processing.sharpened ||
+      std::abs(processing.signs.edge_shift_px) > options.edge_shift_px;
+  return codes_processed && TagCellPx(tag_corners) < options.min_cell_px;
+}
+
+void NoteTagCells(const std::array<Eigen::Vector2d, 4>& tag_corners,
+                  const CameraProcessingOptions& options,
+                  const std::optional<TagModelFit>& whole, double scale_change,
+                  CameraProcessing* processing) {
+  processing->tag_cell_px = TagCellPx(tag_corners);
+  if (!TagScaleAtRisk(tag_corners, options, *processing)) return;
+  processing->tag_model = whole;
+  const bool fitted = whole && whole->found;
+  processing->tag_model_scale_change = fitted ? scale_change : 0.0;
+  processing->tag_scale_at_risk = !fitted;
+  if (!fitted) processing->tag_cells_wanted_px = options.min_cell_px;
   for (ProcessingEffect& e : processing->effects) {
     if (e.name != kSharpeningHalos && e.name != kCodesCurve) continue;
+    if (fitted) {
+      e.handling += fmt::format(
+          "; but the tag's cells are {:.1f} px in the video, and on cells "
+          "under {:.0f} px the midlines still follow the processing, so the "
+          "tag was fitted whole: its cells seen through the lens's blur, "
+          "the curve and the sharpening, fitted with them to every pixel of "
+          "the tag (blur {:.2f} px, a 3-tap filter {:.2f}, tone curve "
+          "{:.2f}, sharpening {:.2f} px x {:.2f}, {:.2f} levels RMS), which "
+          "moved the scale {:+.3f} % from the midlines'",
+          processing->tag_cell_px, options.min_cell_px, whole->lens_blur_px,
+          whole->pixel_filter, whole->tone_curve, whole->sharpen_radius_px,
+          whole->sharpen_amount, whole->rms_levels, 100.0 * scale_change);
+      continue;
+    }
     e.handling += fmt::format(
         "; but the tag's cells are {:.1f} px in the video, and on cells "
         "under {:.0f} px the midlines still follow the processing, by as much "
-        "as 0.6 % of the scale as the edges fall on the pixel grid: "
+        "as 0.6 % of the scale as the edges fall on the pixel grid{}: "
         "the dots' spacing checks the scale (the layout check), and each "
         "change's uncertainty carries what it finds; print the tag larger, "
         "or film it closer, so that its cells are {:.0f} px or more",
-        processing->tag_cell_px, options.min_cell_px, options.min_cell_px);
+        processing->tag_cell_px, options.min_cell_px,
+        whole ? " (fitting the tag whole failed: " + whole->why_not + ")"
+              : std::string(),
+        options.min_cell_px);
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include "vision/rolling_shutter.h"
 #include "vision/tag_detector.h"
+#include "vision/tag_model.h"
 
 namespace softbench {
 
@@ -42,6 +43,8 @@ struct CameraProcessingOptions {
   // between -0.51 % and +0.38 % pixel-sharp and -0.21 % and +0.16 % under
   // 0.6 px of lens blur; 1080p (16.8 px), within 0.071 %
   // (docs/measurement.md, "The tag located by its border's midlines").
+  // Under it the tag is fitted whole (vision/tag_model.h), which holds
+  // those frames within 0.02 % ("Small cells: the tag fitted whole").
   double min_cell_px = 15.0;
   // A rolling shutter, measured from the registration's misfits.
   RollingShutterOptions rolling_shutter;
@@ -73,11 +76,19 @@ struct CameraProcessing {
   // its 8 cells); NaN without a tag.
   double tag_cell_px = std::numeric_limits<double>::quiet_NaN();
   // The codes were processed (halos or an edge shift above the bars) and
-  // the tag's cells are under CameraProcessingOptions::min_cell_px: the
-  // tag's scale may follow the processing.
+  // the tag's cells are under CameraProcessingOptions::min_cell_px, and
+  // the tag fitted whole was not found: the tag's scale may follow the
+  // processing.
   bool tag_scale_at_risk = false;
   // CameraProcessingOptions::min_cell_px, when the scale is at risk.
   double tag_cells_wanted_px = 0.0;
+  // Where the processing and small cells put the midlines' scale at risk,
+  // the tag fitted whole (vision/tag_model.h) on the first frame, and how
+  // far it moved the scale from the midlines' (size ratio - 1). Found, its
+  // corners replace the midlines' in the plane's mapping, and the scale is
+  // no longer at risk.
+  std::optional<TagModelFit> tag_model;
+  double tag_model_scale_change = 0.0;
   RollingShutter rolling_shutter;  // from the registration
   // One line for a person: the tag border's effects seen by name (or that
   // none was), then its signs, and whether they put the tag's scale at risk.
@@ -90,12 +101,21 @@ CameraProcessing DescribeCameraProcessing(
     const std::vector<TagEdgeSigns>& frames,
     const CameraProcessingOptions& options);
 
-// Keeps the tag's cell size, from its corners in the video (any order
-// around the square), in `processing`; when the codes were processed and
-// the cells are small, marks the tag's scale at risk and says so in the
-// handling of each effect on the codes.
+// Whether the border's midlines may follow the processing `processing`
+// saw: the codes were processed (halos or an edge shift above the bars)
+// and the tag's cells, from its corners in the video (any order around the
+// square), are under options.min_cell_px.
+bool TagScaleAtRisk(const std::array<Eigen::Vector2d, 4>& tag_corners,
+                    const CameraProcessingOptions& options,
+                    const CameraProcessing& processing);
+
+// Keeps the tag's cell size in `processing`; where its scale is at risk
+// (TagScaleAtRisk), says in the handling of each effect on the codes what
+// was done: the tag fitted whole (`whole`, with `scale_change` from the
+// midlines' size), or, without a fit found, that the scale is at risk.
 void NoteTagCells(const std::array<Eigen::Vector2d, 4>& tag_corners,
                   const CameraProcessingOptions& options,
+                  const std::optional<TagModelFit>& whole, double scale_change,
                   CameraProcessing* processing);
 
 // Keeps `shutter` in `processing`, and names its shear as an effect when it

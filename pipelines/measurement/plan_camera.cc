@@ -2,14 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <numbers>
 
 #include "calibration/camera_calibration.h"
+#include "util/check.h"
 #include "util/input_error.h"
 #include "util/statistics.h"
 #include "vision/frame_source.h"
 #include "vision/layout_scale.h"
+#include "vision/tag_bitmap.h"
 #include "vision/tag_finder.h"
 
 namespace softbench {
@@ -242,6 +245,65 @@ std::vector<HeadMarkers> PlanHeadMarkers(const TestPlan& plan) {
     heads.push_back(h);
   }
   return heads;
+}
+
+TagFittedWhole FitTagWhole(const TestPlan& plan, const cv::Mat& first_luma,
+                           const LumaEncoding& encoding,
+                           const std::array<Eigen::Vector2d, 4>& tag_corners,
+                           const TagModelOptions& options,
+                           double max_scale_change) {
+  TagFittedWhole whole;
+  TagDetectorOptions detector;
+  detector.luma_encoding = encoding;
+  const std::optional<std::array<Eigen::Vector2d, 4>> midlines =
+      RefineTagCorners(first_luma, tag_corners, detector, 0.25);
+  if (!midlines) {
+    whole.fit.why_not =
+        "the border's midlines were not found in the first "
+        "frame to start from";
+    return whole;
+  }
+  TagModelOptions fit_options = options;
+  fit_options.luma_encoding = encoding;
+  whole.fit = FitTagModel(first_luma, Tag36h11Bitmap(plan.calibration.tag->id),
+                          *midlines, fit_options);
+  if (!whole.fit.found) return whole;
+  // The mean length of the sides along each of the tag's axes.
+  const auto sides = [](const std::array<Eigen::Vector2d, 4>& c) {
+    return Eigen::Vector2d(((c[1] - c[0]).norm() + (c[2] - c[3]).norm()) / 2,
+                           ((c[3] - c[0]).norm() + (c[2] - c[1]).norm()) / 2);
+  };
+  whole.scale = sides(whole.fit.corners).cwiseQuotient(sides(*midlines));
+  whole.scale_change = whole.scale.mean() - 1.0;
+  const double moved = (whole.scale.array() - 1.0).abs().maxCoeff();
+  if (!(moved <= max_scale_change)) {
+    whole.fit.found = false;
+    whole.fit.why_not = fmt::format(
+        "the fit moved the scale {:.2f} % from the midlines', more than "
+        "they are ever off ({:.2f} %)",
+        100.0 * moved, 100.0 * max_scale_change);
+    whole.scale = Eigen::Vector2d::Ones();
+    whole.scale_change = 0.0;
+  }
+  return whole;
+}
+
+std::array<Eigen::Vector2d, 4> ScaledTagCorners(
+    const std::array<Eigen::Vector2d, 4>& corners,
+    const Eigen::Vector2d& scale) {
+  const std::array<Eigen::Vector2d, 4> square = {
+      Eigen::Vector2d(-1, 1), Eigen::Vector2d(1, 1), Eigen::Vector2d(1, -1),
+      Eigen::Vector2d(-1, -1)};
+  const std::optional<Eigen::Matrix3d> pixel_from_square =
+      HomographyThrough(square, corners);
+  SOFTBENCH_CHECK(pixel_from_square) << "a tag's corners are a quadrilateral";
+  std::array<Eigen::Vector2d, 4> scaled;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d h =
+        *pixel_from_square * square[i].cwiseProduct(scale).homogeneous();
+    scaled[i] = h.hnormalized();
+  }
+  return scaled;
 }
 
 }  // namespace softbench

@@ -13,6 +13,7 @@
 #include "vision/head_tracker.h"
 #include "vision/plane_mapping.h"
 #include "vision/tag_detector.h"
+#include "vision/tag_model.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -35,6 +36,35 @@ PlaneMapping PlanMapping(
     const CameraIntrinsics& intrinsics, int tag_frames, std::string* source,
     std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners = nullptr,
     std::vector<TagEdgeSigns>* tag_signs = nullptr);
+
+// The plan's tag fitted whole (vision/tag_model.h) in the first frame,
+// from the corners its mapping was made from: the fit, and its size over
+// the border's midlines' in the same frame (RefineTagCorners) along the
+// tag's two axes. The processing moves the midlines' scale, not their
+// perspective, which one frame's fit knows less well than the midlines
+// averaged over the video: so the scale is what is taken from the fit
+// (ScaledTagCorners). Not found (fit.why_not) where the midlines cannot be
+// refined in the frame, or the fit moves their scale along either axis by
+// more than `max_scale_change` (a fraction): the midlines were measured
+// off by at most 0.51 % on small cells (docs/measurement.md), so a fit
+// that moves them twice that far has fitted something other than the tag
+// (a shadow, a finger, a fold).
+struct TagFittedWhole {
+  TagModelFit fit;
+  Eigen::Vector2d scale = Eigen::Vector2d::Ones();  // along x, y
+  double scale_change = 0.0;  // mean size over the midlines', - 1
+};
+TagFittedWhole FitTagWhole(const TestPlan& plan, const cv::Mat& first_luma,
+                           const LumaEncoding& encoding,
+                           const std::array<Eigen::Vector2d, 4>& tag_corners,
+                           const TagModelOptions& options,
+                           double max_scale_change = 0.01);
+
+// A tag's corners (libapriltag's order) scaled about its centre along its
+// own two axes, through the plane's homography they make.
+std::array<Eigen::Vector2d, 4> ScaledTagCorners(
+    const std::array<Eigen::Vector2d, 4>& corners,
+    const Eigen::Vector2d& scale);
 
 // How the plan's mapping depends on the intrinsics' standard errors
 // (CameraIntrinsics::intrinsics_std_px, distortion_std): the mapping made

@@ -31,6 +31,7 @@ std::optional<std::string> VideoMeasurementOptions::Problem() const {
   if (auto problem = camera_processing.Problem()) {
     return "camera_processing: " + *problem;
   }
+  if (auto problem = tag_model.Problem()) return "tag_model: " + *problem;
   if (window_frames) {
     if (auto problem = window_frames->Problem()) {
       return "window_frames: " + *problem;
@@ -239,10 +240,12 @@ Registrations MakeRegistrations(
 // the first frames' mapping tilts the plane by a few tenths of a degree on
 // codec noise, which bends the scale across the field (0.065 % at a head
 // 67 mm from the tag). Sets `m`'s mapping and scale, and `tag_corners` to
-// the corners it was made from; else keeps them.
+// the corners it was made from (scaled by `tag_scale`, the tag fitted
+// whole against the midlines, where it was); else keeps them.
 PlaneMapping TagMappingOverTheVideo(
     const TestPlan& plan, const CameraIntrinsics& intrinsics,
-    const Registrations& registrations, int min_frames, VideoMeasurement* m,
+    const Registrations& registrations, int min_frames,
+    const Eigen::Vector2d& tag_scale, VideoMeasurement* m,
     std::optional<std::array<Eigen::Vector2d, 4>>* tag_corners) {
   if (!registrations.reference || !registrations.reference->tag) {
     return *m->mapping;
@@ -254,6 +257,7 @@ PlaneMapping TagMappingOverTheVideo(
   if (static_cast<int>(seen.size()) < min_frames) return *m->mapping;
   const CalibrationSpec& c = plan.calibration;
   *tag_corners = AverageTagCorners(registrations.reference->tag->corners, seen);
+  **tag_corners = ScaledTagCorners(**tag_corners, tag_scale);
   m->mapping = PlaneMapping::FromTag(intrinsics, **tag_corners, c.tag->size_mm,
                                      c.plane_offset_mm);
   m->mm_per_px = m->mapping->MmPerPixelAt(
@@ -519,6 +523,42 @@ void Finish(const TestPlan& plan, const VideoInfo& info,
                       m->mapping->CameraHeightMm(), m->camera_processing);
 }
 
+// Where the processing and small cells put the midlines' scale at risk
+// (TagScaleAtRisk), fits the tag whole on the first frame and scales
+// `tag_corners`, `mapping` and `m`'s mapping by the fit's scale along each
+// of the tag's axes; notes the tag's cells and the fit in
+// m->camera_processing. Returns the scale taken (ones where none was).
+Eigen::Vector2d HoldTagScale(const TestPlan& plan, VideoReader* reader,
+                             const VideoFrame& first,
+                             const CameraIntrinsics& intrinsics,
+                             const VideoMeasurementOptions& options,
+                             std::array<Eigen::Vector2d, 4>* tag_corners,
+                             PlaneMapping* mapping, VideoMeasurement* m) {
+  TagFittedWhole whole;
+  const bool at_risk = TagScaleAtRisk(*tag_corners, options.camera_processing,
+                                      m->camera_processing);
+  if (at_risk) {
+    const VideoFrameSource source(reader, &first);
+    whole = FitTagWhole(plan, source.luma(), source.luma_encoding(),
+                        *tag_corners, options.tag_model);
+  }
+  Eigen::Vector2d tag_scale = Eigen::Vector2d::Ones();
+  if (whole.fit.found) {
+    tag_scale = whole.scale;
+    *tag_corners = ScaledTagCorners(*tag_corners, tag_scale);
+    *mapping = PlaneMapping::FromTag(intrinsics, *tag_corners,
+                                     plan.calibration.tag->size_mm,
+                                     plan.calibration.plane_offset_mm);
+    m->mapping = *mapping;
+    m->mm_per_px = mapping->MmPerPixelAt(
+        Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
+  }
+  NoteTagCells(*tag_corners, options.camera_processing,
+               at_risk ? std::optional<TagModelFit>(whole.fit) : std::nullopt,
+               whole.scale_change, &m->camera_processing);
+  return tag_scale;
+}
+
 }  // namespace
 
 void TakeOutParallax(VideoMeasurement* m) {
@@ -552,14 +592,11 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   VideoMeasurement m = StartMeasurement(*reader);
   std::optional<std::array<Eigen::Vector2d, 4>> tag_corners;
   std::vector<TagEdgeSigns> tag_signs;
-  const PlaneMapping mapping =
+  PlaneMapping mapping =
       PlanMapping(plan, reader, intrinsics, options.tag_frames, &m.scale_source,
                   &tag_corners, &tag_signs);
   m.camera_processing =
       DescribeCameraProcessing(tag_signs, options.camera_processing);
-  if (tag_corners) {
-    NoteTagCells(*tag_corners, options.camera_processing, &m.camera_processing);
-  }
   if (!plan.calibration.tag) {
     m.camera_processing.why_not = "the plan has no tag to read it from";
   }
@@ -573,6 +610,10 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   // through every frame starts.
   const VideoFrame first = reader->SeekTo(
       info.frame_times_s.empty() ? 0.0 : info.frame_times_s.front());
+  const Eigen::Vector2d tag_scale =
+      tag_corners ? HoldTagScale(plan, reader, first, intrinsics, options,
+                                 &*tag_corners, &mapping, &m)
+                  : Eigen::Vector2d::Ones();
   std::string why_still;
   const Registrations registrations =
       MakeRegistrations(plan, VideoFrameSource(reader, &first), mapping,
@@ -628,7 +669,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
                        &m.camera_processing);
     FollowCameraPath(
         TagMappingOverTheVideo(plan, intrinsics, registrations,
-                               options.tag_frames, &m, &tag_corners),
+                               options.tag_frames, tag_scale, &m, &tag_corners),
         measurers.front().tracker(), options.camera_path, info.frame_interval_s,
         r, m.camera_processing.rolling_shutter, velocities, &m.frames);
   }

@@ -61,6 +61,11 @@ struct VideoMeasurementOptions {
   double plate_dot_sigma_px = 0.02;
   // When the tag's border names an effect of the camera's processing.
   CameraProcessingOptions camera_processing;
+  // Where that processing puts a small-celled tag's scale at risk, the tag
+  // fitted whole on the first frame (vision/tag_model.h), its corners then
+  // moved by the fit's offset from the midlines' wherever the mapping is
+  // made (issue 28). The luma encoding is the video's.
+  TagModelOptions tag_model;
   // Only the frames in these spans are measured, seeking from one to the
   // next (validate --windows-only); empty: every frame.
   std::vector<TimeSpan> spans;

@@ -231,6 +231,25 @@ json CameraProcessingJson(const CameraProcessing& p) {
     out["dots_weighed_in"] = p.sharpened ? "codes" : "linear light";
     out["tag_cell_px"] = JsonNumber(p.tag_cell_px);
     out["tag_scale_at_risk"] = p.tag_scale_at_risk;
+    if (p.tag_model) {
+      const TagModelFit& f = *p.tag_model;
+      json fit = {{"found", f.found}};
+      if (f.found) {
+        fit["scale_change_percent"] =
+            JsonNumber(100.0 * p.tag_model_scale_change);
+        fit["lens_blur_px"] = JsonNumber(f.lens_blur_px);
+        fit["pixel_filter"] = JsonNumber(f.pixel_filter);
+        fit["tone_curve"] = JsonNumber(f.tone_curve);
+        fit["sharpen_radius_px"] = JsonNumber(f.sharpen_radius_px);
+        fit["sharpen_amount"] = JsonNumber(f.sharpen_amount);
+        fit["rms_levels"] = JsonNumber(f.rms_levels);
+        fit["pixels"] = f.pixels;
+        fit["iterations"] = f.iterations;
+      } else {
+        fit["why_not"] = f.why_not;
+      }
+      out["tag_model"] = fit;
+    }
   } else {
     out["why_not"] = p.why_not;
   }

@@ -113,7 +113,7 @@ std::array<Eigen::Vector2d, 4> Square(double side_px) {
 TEST(CameraProcessing, PutsASmallCelledTagsScaleAtRiskOnlyUnderProcessing) {
   const CameraProcessingOptions options;
   CameraProcessing p = DescribeCameraProcessing({{-0.25, 0.064, 0.03}}, {});
-  NoteTagCells(Square(89.6), options, &p);
+  NoteTagCells(Square(89.6), options, std::nullopt, 0.0, &p);
   EXPECT_NEAR(p.tag_cell_px, 11.2, 1e-9);
   EXPECT_TRUE(p.tag_scale_at_risk);
   ASSERT_EQ(p.effects.size(), 3u);
@@ -129,20 +129,52 @@ TEST(CameraProcessing, PutsASmallCelledTagsScaleAtRiskOnlyUnderProcessing) {
       << p.Summary();
   // An edge shift alone (a tone curve) puts it at risk as halos do.
   p = DescribeCameraProcessing({{-0.25, 0.0, 0.0}}, {});
-  NoteTagCells(Square(89.6), options, &p);
+  NoteTagCells(Square(89.6), options, std::nullopt, 0.0, &p);
   EXPECT_TRUE(p.tag_scale_at_risk);
   // Cells of 15 px or more: the midlines hold.
   p = DescribeCameraProcessing({{-0.25, 0.064, 0.0}}, {});
-  NoteTagCells(Square(8 * 15.1), options, &p);
+  NoteTagCells(Square(8 * 15.1), options, std::nullopt, 0.0, &p);
   EXPECT_NEAR(p.tag_cell_px, 15.1, 1e-9);
   EXPECT_FALSE(p.tag_scale_at_risk);
   EXPECT_EQ(p.effects[0].handling.find("cells are"), std::string::npos);
   EXPECT_EQ(p.Summary().find("may move"), std::string::npos) << p.Summary();
   // Small cells, codes unprocessed (local tone mapping only).
   p = DescribeCameraProcessing({{0.0, 0.002, 0.03}}, {});
-  NoteTagCells(Square(89.6), options, &p);
+  NoteTagCells(Square(89.6), options, std::nullopt, 0.0, &p);
   EXPECT_FALSE(p.tag_scale_at_risk);
   EXPECT_NEAR(p.tag_cell_px, 11.2, 1e-9);
+}
+
+// Where the tag was fitted whole, its scale is no longer at risk, and the
+// effects on the codes say what was fitted and how far it moved the scale;
+// a fit not found keeps the risk and says why.
+TEST(CameraProcessing, SaysWhatFittingTheTagWholeDid) {
+  const CameraProcessingOptions options;
+  CameraProcessing p = DescribeCameraProcessing({{-0.25, 0.064, 0.03}}, {});
+  TagModelFit fit;
+  fit.found = true;
+  fit.tone_curve = 0.6;
+  NoteTagCells(Square(89.6), options, fit, -0.0051, &p);
+  EXPECT_FALSE(p.tag_scale_at_risk);
+  ASSERT_TRUE(p.tag_model.has_value());
+  EXPECT_DOUBLE_EQ(p.tag_model_scale_change, -0.0051);
+  EXPECT_NE(p.effects[0].handling.find("fitted whole"), std::string::npos)
+      << p.effects[0].handling;
+  EXPECT_NE(p.effects[0].handling.find("tone curve 0.60"), std::string::npos)
+      << p.effects[0].handling;
+  EXPECT_NE(p.effects[0].handling.find("-0.510 % from the midlines'"),
+            std::string::npos)
+      << p.effects[0].handling;
+  EXPECT_EQ(p.Summary().find("may move"), std::string::npos) << p.Summary();
+  fit.found = false;
+  fit.why_not = "the fit did not converge";
+  p = DescribeCameraProcessing({{-0.25, 0.064, 0.03}}, {});
+  NoteTagCells(Square(89.6), options, fit, 0.0, &p);
+  EXPECT_TRUE(p.tag_scale_at_risk);
+  EXPECT_NE(p.effects[0].handling.find(
+                "fitting the tag whole failed: the fit did not converge"),
+            std::string::npos)
+      << p.effects[0].handling;
 }
 
 // A rolling shutter seen in the registration joins the effects, with its

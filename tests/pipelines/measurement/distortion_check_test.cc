@@ -159,7 +159,7 @@ TEST(DistortionCheck, NamesTheTagWhenProcessingPutsItsScaleAtRisk) {
       DescribeCameraProcessing({{-0.25, 0.064, 0.0}}, {});
   NoteTagCells({Eigen::Vector2d(100, 100), Eigen::Vector2d(189.6, 100),
                 Eigen::Vector2d(189.6, 189.6), Eigen::Vector2d(100, 189.6)},
-               {}, &processing);
+               {}, std::nullopt, 0.0, &processing);
   ASSERT_TRUE(processing.tag_scale_at_risk);
   const DistortionCheck check =
       CheckDistortion(plan, frames, "tag 0", kCameraHeightMm, processing);
