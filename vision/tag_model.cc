@@ -89,8 +89,16 @@ struct AxisCover {
     const double w = std::max(nx, ny);
     const double minor = std::min(nx, ny);
     const double s = std::sqrt(blur * blur + minor * minor / 12.0 + 1e-8);
-    beyond.resize(n + 1);
-    for (int i = 0; i <= n; ++i) {
+    // Boundaries more than Coverage's reach behind the point are passed
+    // wholly, those as far ahead not at all.
+    const double reach_cells = (0.5 * w + 7.0 * s) * norm;
+    const int near_0 =
+        std::clamp(static_cast<int>(std::floor(q - reach_cells)), 0, n + 1);
+    const int near_1 = std::clamp(
+        static_cast<int>(std::ceil(q + reach_cells)) + 1, near_0, n + 1);
+    beyond.assign(n + 1, 0.0);
+    std::fill(beyond.begin(), beyond.begin() + near_0, 1.0);
+    for (int i = near_0; i < near_1; ++i) {
       beyond[i] = Coverage((q - i) * px_per_cell, w, s);
     }
   }
