@@ -102,12 +102,12 @@ LiftCorrectionDecision DecideLiftCorrection(
 LiftCorrectedScore ScoreTestsCorrectingLift(
     const TestPlan& plan, const ValidationOptions& scoring,
     const LiftCorrectionOptions& options, VideoMeasurement* measurement) {
+  SOFTBENCH_CHECK(!measurement->lift_corrected)
+      << "validate's positions are corrected here only";
   LiftCorrectedScore score;
   score.result = ScoreTests(plan, *measurement, scoring);
   score.decision =
       DecideLiftCorrection(score.result, scoring.min_codec_jumps, options);
-  SOFTBENCH_CHECK(!measurement->lift_corrected)
-      << "validate's positions are corrected here only";
   if (!score.decision.correct) return score;
   const bool has_parallax =
       std::ranges::any_of(measurement->frames, [](const FrameSample& f) {
