@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "util/check.h"
+#include "util/statistics.h"
 #include "vision/luma.h"
 #include "vision/tag_detector.h"
 
@@ -162,10 +163,10 @@ class TagImageModel {
     const int where[3] = {kInk, kPaper, kTable};
     for (int k = 0; k < 3; ++k) {
       if (levels[k].empty()) continue;  // a table not in view: its start
-      auto middle = levels[k].begin() + levels[k].size() / 2;
-      std::nth_element(levels[k].begin(), middle, levels[k].end());
-      const double code = std::clamp(
-          (*middle - black_level_) / (white_level_ - black_level_), 0.0, 1.0);
+      const double code =
+          std::clamp((Median(std::move(levels[k])) - black_level_) /
+                         (white_level_ - black_level_),
+                     0.0, 1.0);
       params[where[k]] = ToLinear(options_.luma_encoding.transfer, code);
     }
   }

@@ -274,7 +274,6 @@ TagFittedWhole FitTagWhole(const TestPlan& plan, const cv::Mat& first_luma,
                            ((c[3] - c[0]).norm() + (c[2] - c[1]).norm()) / 2);
   };
   whole.scale = sides(whole.fit.corners).cwiseQuotient(sides(*midlines));
-  whole.scale_change = whole.scale.mean() - 1.0;
   const double moved = (whole.scale.array() - 1.0).abs().maxCoeff();
   if (!(moved <= max_scale_change)) {
     whole.fit.found = false;
@@ -283,7 +282,6 @@ TagFittedWhole FitTagWhole(const TestPlan& plan, const cv::Mat& first_luma,
         "they are ever off ({:.2f} %)",
         100.0 * moved, 100.0 * max_scale_change);
     whole.scale = Eigen::Vector2d::Ones();
-    whole.scale_change = 0.0;
   }
   return whole;
 }

@@ -52,7 +52,8 @@ PlaneMapping PlanMapping(
 struct TagFittedWhole {
   TagModelFit fit;
   Eigen::Vector2d scale = Eigen::Vector2d::Ones();  // along x, y
-  double scale_change = 0.0;  // mean size over the midlines', - 1
+  // The mean size over the midlines', - 1.
+  double ScaleChange() const { return scale.mean() - 1.0; }
 };
 TagFittedWhole FitTagWhole(const TestPlan& plan, const cv::Mat& first_luma,
                            const LumaEncoding& encoding,

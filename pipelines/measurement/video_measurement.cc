@@ -235,6 +235,15 @@ Registrations MakeRegistrations(
   return r;
 }
 
+// Measures through `mapping` from here on: m's mapping, and its scale at
+// the image's centre.
+void SetMapping(const PlaneMapping& mapping, const CameraIntrinsics& intrinsics,
+                VideoMeasurement* m) {
+  m->mapping = mapping;
+  m->mm_per_px = mapping.MmPerPixelAt(
+      Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
+}
+
 // The plan's tag mapping again from the tag's corners in every registered
 // frame (AverageTagCorners), once there are at least `min_frames` of them:
 // the first frames' mapping tilts the plane by a few tenths of a degree on
@@ -258,10 +267,9 @@ PlaneMapping TagMappingOverTheVideo(
   const CalibrationSpec& c = plan.calibration;
   *tag_corners = AverageTagCorners(registrations.reference->tag->corners, seen);
   **tag_corners = ScaledTagCorners(**tag_corners, tag_scale);
-  m->mapping = PlaneMapping::FromTag(intrinsics, **tag_corners, c.tag->size_mm,
-                                     c.plane_offset_mm);
-  m->mm_per_px = m->mapping->MmPerPixelAt(
-      Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
+  SetMapping(PlaneMapping::FromTag(intrinsics, **tag_corners, c.tag->size_mm,
+                                   c.plane_offset_mm),
+             intrinsics, m);
   return *m->mapping;
 }
 
@@ -525,38 +533,34 @@ void Finish(const TestPlan& plan, const VideoInfo& info,
 
 // Where the processing and small cells put the midlines' scale at risk
 // (TagScaleAtRisk), fits the tag whole on the first frame and scales
-// `tag_corners`, `mapping` and `m`'s mapping by the fit's scale along each
-// of the tag's axes; notes the tag's cells and the fit in
-// m->camera_processing. Returns the scale taken (ones where none was).
+// `tag_corners` and `mapping` by the fit's scale along each of the tag's
+// axes; notes the tag's cells and the fit in `processing`. Returns the scale
+// taken (ones where none was).
 Eigen::Vector2d HoldTagScale(const TestPlan& plan, VideoReader* reader,
                              const VideoFrame& first,
                              const CameraIntrinsics& intrinsics,
                              const VideoMeasurementOptions& options,
                              std::array<Eigen::Vector2d, 4>* tag_corners,
-                             PlaneMapping* mapping, VideoMeasurement* m) {
+                             PlaneMapping* mapping,
+                             CameraProcessing* processing) {
   TagFittedWhole whole;
-  const bool at_risk = TagScaleAtRisk(*tag_corners, options.camera_processing,
-                                      m->camera_processing);
+  const bool at_risk =
+      TagScaleAtRisk(*tag_corners, options.camera_processing, *processing);
   if (at_risk) {
     const VideoFrameSource source(reader, &first);
     whole = FitTagWhole(plan, source.luma(), source.luma_encoding(),
                         *tag_corners, options.tag_model);
   }
-  Eigen::Vector2d tag_scale = Eigen::Vector2d::Ones();
   if (whole.fit.found) {
-    tag_scale = whole.scale;
-    *tag_corners = ScaledTagCorners(*tag_corners, tag_scale);
+    *tag_corners = ScaledTagCorners(*tag_corners, whole.scale);
     *mapping = PlaneMapping::FromTag(intrinsics, *tag_corners,
                                      plan.calibration.tag->size_mm,
                                      plan.calibration.plane_offset_mm);
-    m->mapping = *mapping;
-    m->mm_per_px = mapping->MmPerPixelAt(
-        Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
   }
   NoteTagCells(*tag_corners, options.camera_processing,
                at_risk ? std::optional<TagModelFit>(whole.fit) : std::nullopt,
-               whole.scale_change, &m->camera_processing);
-  return tag_scale;
+               whole.ScaleChange(), processing);
+  return whole.scale;  // ones where no fit was found
 }
 
 }  // namespace
@@ -602,18 +606,15 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   }
   m.camera_processing.rolling_shutter.why_not =
       "the frames were not registered to the bench";
-  m.mm_per_px = mapping.MmPerPixelAt(
-      Eigen::Vector2d(intrinsics.width_px / 2.0, intrinsics.height_px / 2.0));
-  m.mapping = mapping;
-
   // Back to the first frame: the registration's reference, and where a run
   // through every frame starts.
   const VideoFrame first = reader->SeekTo(
       info.frame_times_s.empty() ? 0.0 : info.frame_times_s.front());
   const Eigen::Vector2d tag_scale =
       tag_corners ? HoldTagScale(plan, reader, first, intrinsics, options,
-                                 &*tag_corners, &mapping, &m)
+                                 &*tag_corners, &mapping, &m.camera_processing)
                   : Eigen::Vector2d::Ones();
+  SetMapping(mapping, intrinsics, &m);
   std::string why_still;
   const Registrations registrations =
       MakeRegistrations(plan, VideoFrameSource(reader, &first), mapping,

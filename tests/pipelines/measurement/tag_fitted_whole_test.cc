@@ -63,7 +63,7 @@ TEST(FitTagWhole, AgreesWithTheMidlinesOnASharpTag) {
   ASSERT_TRUE(whole.fit.found) << whole.fit.why_not;
   EXPECT_NEAR(whole.scale.x(), 1.0, 2e-4);
   EXPECT_NEAR(whole.scale.y(), 1.0, 2e-4);
-  EXPECT_NEAR(whole.scale_change, 0.0, 2e-4);
+  EXPECT_NEAR(whole.ScaleChange(), 0.0, 2e-4);
 }
 
 TEST(FitTagWhole, RefusesAFitThatMovesTheScaleTooFar) {
@@ -76,7 +76,7 @@ TEST(FitTagWhole, RefusesAFitThatMovesTheScaleTooFar) {
   EXPECT_NE(whole.fit.why_not.find("moved the scale"), std::string::npos)
       << whole.fit.why_not;
   EXPECT_EQ(whole.scale, Eigen::Vector2d::Ones());
-  EXPECT_EQ(whole.scale_change, 0.0);
+  EXPECT_EQ(whole.ScaleChange(), 0.0);
 }
 
 TEST(FitTagWhole, SaysWhenTheFrameHasNoBorderToStartFrom) {
