@@ -18,6 +18,7 @@
 #include "vision/static_patches.h"
 #include "vision/tag_detector.h"
 #include "vision/tag_finder.h"
+#include "vision/tag_model.h"
 #include "vision/video_reader.h"
 
 namespace softbench {
@@ -122,6 +123,38 @@ BENCHMARK_CAPTURE(BM_FindTagInFirstFrame, 4k_coarse, cv::Size(3840, 2160), true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_FindTagInFirstFrame, 4k_whole, cv::Size(3840, 2160), false)
     ->Unit(benchmark::kMillisecond);
+
+// Fits the tag whole (vision/tag_model.h) in the delta scene at 720p (its
+// cells 11 px) through a phone's S-curve 0.6 and sharpening 1.5 px x 1.0, as
+// `validate` does once per video where the processing puts the midlines'
+// scale at risk, with the decoder waiting.
+void BM_FitTagModel(benchmark::State& state) {
+  RenderOptions options;
+  options.intrinsics =
+      CameraIntrinsics::FromEquivalentFocalLength(52, 1280, 720);
+  options.tone_curve = 0.6;
+  options.sharpen_radius_px = 1.5;
+  options.sharpen_amount = 1.0;
+  cv::Mat luma;
+  cv::cvtColor(
+      SceneRenderer(DeltaPlan(), options).Render({Eigen::Vector2d::Zero()}, 0),
+      luma, cv::COLOR_BGR2GRAY);
+  const int id = DeltaPlan().calibration.tag->id;
+  const std::optional<TagDetection> tag = TagFinder(id, {}).Find(luma);
+  if (!tag) {
+    state.SkipWithError("no tag in the rendered frame");
+    return;
+  }
+  TagModelFit fit;
+  for (auto _ : state) {
+    fit =
+        FitTagModel(luma, Tag36h11Bitmap(id), tag->corners, TagModelOptions());
+  }
+  state.counters["found"] = fit.found;
+  state.counters["iterations"] = fit.iterations;
+  state.counters["pixels"] = fit.pixels;
+}
+BENCHMARK(BM_FitTagModel)->Unit(benchmark::kMillisecond);
 
 // Decodes the whole file: decode only (Skip), or with the luma plane each
 // later stage reads.

@@ -87,6 +87,26 @@ double FromLinear(Transfer transfer, double linear) {
   return linear;
 }
 
+double FromLinearSlope(Transfer transfer, double linear) {
+  if (!(linear > 0.0 && linear < 1.0)) return 0.0;
+  switch (transfer) {
+    case Transfer::kHlg:
+      return linear <= 1.0 / 12.0 ? 1.5 / std::sqrt(3.0 * linear)
+                                  : 12.0 * kHlgA / (12.0 * linear - kHlgB);
+    case Transfer::kPq: {
+      const double y = std::pow(linear, kPqM1);
+      const double ratio = (kPqC1 + kPqC2 * y) / (1.0 + kPqC3 * y);
+      const double d_ratio =
+          (kPqC2 - kPqC1 * kPqC3) / ((1.0 + kPqC3 * y) * (1.0 + kPqC3 * y));
+      return kPqM2 * std::pow(ratio, kPqM2 - 1.0) * d_ratio * kPqM1 * y /
+             linear;
+    }
+    case Transfer::kSdr:
+      return linear < 0.018 ? 4.5 : 1.099 * 0.45 * std::pow(linear, -0.55);
+  }
+  return 1.0;
+}
+
 double ReferenceWhiteLinear(Transfer transfer) {
   switch (transfer) {
     case Transfer::kHlg:

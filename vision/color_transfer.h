@@ -34,6 +34,9 @@ struct ColorEncoding {
 // HLG, display light / 10000 cd/m² for PQ.
 double ToLinear(Transfer transfer, double code);
 double FromLinear(Transfer transfer, double linear);
+// d FromLinear / d linear, for linear in (0, 1) (0 outside, where FromLinear
+// clamps): analytic derivatives of models fitted through the curve.
+double FromLinearSlope(Transfer transfer, double linear);
 
 // The linear level of SDR's white in each transfer (ITU-R BT.2408: HLG 75 %,
 // PQ 203 cd/m²): the level that converts to SDR 1.0.

@@ -36,6 +36,24 @@ TEST(ColorTransfer, CurvesIncreaseEverywhere) {
   }
 }
 
+// The slope against central differences of the curve, on both sides of
+// each curve's joint (SDR's linear toe at 0.018, HLG's square root below
+// 1/12), and zero outside (0, 1) where the curve clamps.
+TEST(ColorTransfer, SlopeIsTheCurvesDerivative) {
+  for (const Transfer t : kTransfers) {
+    for (const double linear :
+         {1e-3, 0.01, 0.017, 0.019, 0.05, 0.08, 0.09, 0.2, 0.5, 0.9, 0.99}) {
+      const double h = 1e-7 * linear;
+      const double numeric =
+          (FromLinear(t, linear + h) - FromLinear(t, linear - h)) / (2 * h);
+      EXPECT_NEAR(FromLinearSlope(t, linear), numeric, 1e-6 * numeric)
+          << static_cast<int>(t) << " at " << linear;
+    }
+    EXPECT_EQ(FromLinearSlope(t, 0.0), 0.0);
+    EXPECT_EQ(FromLinearSlope(t, 1.2), 0.0);
+  }
+}
+
 // Reference points of BT.2100 and BT.2408.
 TEST(ColorTransfer, MatchesTheStandardsReferencePoints) {
   // HLG: the square-root segment ends at 1/12 -> 0.5; peak 1 -> 1.

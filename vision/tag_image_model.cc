@@ -1,0 +1,452 @@
+#include "vision/tag_image_model.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "util/statistics.h"
+#include "vision/luma.h"
+#include "vision/tag_detector.h"
+
+namespace softbench {
+namespace {
+
+// The parameters that move the light before the pixel filter: the corners,
+// the blur, the levels and the lighting's gradient.
+constexpr int kLightParams = kTagToneCurve;
+// Half the taps of the sharpening's Gaussian: 4 sigma of the widest.
+const int kSharpenHalfTaps =
+    static_cast<int>(std::ceil(4 * kTagMaxSharpenRadiusPx));
+
+// The fraction of a pixel's footprint on the far side of a boundary at
+// signed distance d [px] (positive: the pixel's centre beyond it), and its
+// derivatives: the footprint projected on the boundary's normal is a box of
+// width w, blurred by a Gaussian of sigma s. With Phi and phi the normal
+// distribution and density, F(x) = x Phi(x/s) + s phi(x/s) integrates the
+// blurred step once; dF/dx = Phi(x/s) and dF/ds = phi(x/s).
+struct Coverage {
+  double value = 0.0, d_d = 0.0, d_w = 0.0, d_s = 0.0;
+  Coverage(double d, double w, double s) {
+    const double reach = 0.5 * w + 7.0 * s;
+    if (d >= reach) value = 1.0;
+    if (d >= reach || d <= -reach) return;
+    const double x[2] = {d + 0.5 * w, d - 0.5 * w};
+    double cdf[2], pdf[2], f[2];
+    for (int k = 0; k < 2; ++k) {
+      const double z = x[k] / s;
+      cdf[k] = 0.5 * std::erfc(-z * std::numbers::sqrt2 / 2.0);
+      pdf[k] = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
+      f[k] = x[k] * cdf[k] + s * pdf[k];
+    }
+    value = (f[0] - f[1]) / w;
+    d_d = (cdf[0] - cdf[1]) / w;
+    d_s = (pdf[0] - pdf[1]) / w;
+    d_w = (0.5 * (cdf[0] + cdf[1]) - value) / w;
+  }
+};
+
+// Along one of the tag's axes at a pixel: the fraction of the pixel's
+// footprint past each cell boundary, from the point's cell coordinate `q`,
+// its gradient in pixels and the blur; and, where asked, the derivatives of
+// each by (q, gradient x, gradient y, blur). Only the boundaries within the
+// blur's reach are evaluated and stored: those before are passed wholly,
+// those after not at all.
+class AxisCover {
+ public:
+  void Fill(double q, const Eigen::Vector2d& g, double blur, int n,
+            bool derivatives) {
+    n_ = n;
+    const double norm = g.norm();
+    const double px_per_cell = 1.0 / norm;
+    // A unit pixel projected on the normal: a box of the larger component,
+    // convolved with one of the smaller, taken as its variance.
+    const int major = std::abs(g.x()) >= std::abs(g.y()) ? 0 : 1;
+    const double w = std::abs(g[major]) / norm;
+    const double minor = std::abs(g[1 - major]) / norm;
+    const double s = std::sqrt(blur * blur + minor * minor / 12.0 + 1e-8);
+    const double reach_cells = (0.5 * w + 7.0 * s) * norm;
+    near_0_ =
+        std::clamp(static_cast<int>(std::floor(q - reach_cells)), 0, n + 1);
+    near_1_ = std::clamp(static_cast<int>(std::ceil(q + reach_cells)) + 1,
+                         near_0_, n + 1);
+    if (beyond_.size() < static_cast<size_t>(n) + 1) {
+      beyond_.resize(n + 1);
+      d_beyond_.resize(n + 1);
+    }
+    // d(|g_j| / |g|) / dg.
+    const auto d_ratio = [&](int j) {
+      Eigen::Vector2d r = -std::abs(g[j]) / (norm * norm * norm) * g;
+      r[j] += (g[j] >= 0.0 ? 1.0 : -1.0) / norm;
+      return r;
+    };
+    Eigen::Vector2d d_w = Eigen::Vector2d::Zero();
+    Eigen::Vector2d d_s_d_g = Eigen::Vector2d::Zero();
+    if (derivatives && near_1_ > near_0_) {
+      d_w = d_ratio(major);
+      d_s_d_g = minor / (12.0 * s) * d_ratio(1 - major);
+    }
+    for (int i = near_0_; i < near_1_; ++i) {
+      const Coverage c((q - i) * px_per_cell, w, s);
+      beyond_[i] = c.value;
+      if (!derivatives) continue;
+      const Eigen::Vector2d d_g =
+          c.d_d * (-(q - i) / (norm * norm * norm)) * g + c.d_w * d_w +
+          c.d_s * d_s_d_g;
+      d_beyond_[i] << c.d_d * px_per_cell, d_g.x(), d_g.y(), c.d_s * blur / s;
+    }
+  }
+  double Beyond(int i) const {
+    return i < near_0_ ? 1.0 : i >= near_1_ ? 0.0 : beyond_[i];
+  }
+  Eigen::Vector4d DBeyond(int i) const {
+    return i < near_0_ || i >= near_1_ ? Eigen::Vector4d::Zero() : d_beyond_[i];
+  }
+  // Whether any boundary is within reach: where none is, the footprint's
+  // cover does not move with the point, and its derivatives are zero.
+  bool Moves() const { return near_1_ > near_0_; }
+  // The cells [first, last) the footprint touches: past every boundary
+  // before the first, past none after the last.
+  std::pair<int, int> Cells() const {
+    int first = 0, last = n_;
+    while (first < n_ && Beyond(first + 1) == 1.0) ++first;
+    while (last > first && Beyond(last - 1) == 0.0) --last;
+    return {first, last};
+  }
+
+ private:
+  int n_ = 0, near_0_ = 0, near_1_ = 0;
+  std::vector<double> beyond_;
+  std::vector<Eigen::Vector4d> d_beyond_;
+};
+
+// A pixel's point on the tag and its gradient along each axis.
+struct PixelOnTag {
+  Eigen::Vector3d pixel, h;
+  double x, y;
+  Eigen::Vector2d gx, gy;
+  PixelOnTag(const Eigen::Matrix3d& cell_from_pixel, double u, double v)
+      : pixel(u, v, 1.0),
+        h(cell_from_pixel * pixel),
+        x(h.x() / h.z()),
+        y(h.y() / h.z()) {
+    const Eigen::Vector2d c = cell_from_pixel.block<1, 2>(2, 0).transpose();
+    gx = (cell_from_pixel.block<1, 2>(0, 0).transpose() - x * c) / h.z();
+    gy = (cell_from_pixel.block<1, 2>(1, 0).transpose() - y * c) / h.z();
+  }
+  // d f / d cell_from_pixel, for f with derivatives `d_x` by (x, gx) and
+  // `d_y` by (y, gy): so that a change D of cell_from_pixel changes f by the
+  // sum of this matrix times D, entry by entry. From h = M p, x = h0 / h2,
+  // gx = (M0' - x M2') / h2 (M_r' the first two entries of row r), and the
+  // same for y.
+  Eigen::Matrix3d Derivative(const Eigen::Matrix3d& cell_from_pixel,
+                             const Eigen::Vector3d& d_x,
+                             const Eigen::Vector3d& d_y) const {
+    const Eigen::Vector2d m2 = cell_from_pixel.block<1, 2>(2, 0).transpose();
+    const Eigen::Vector2d bx = d_x.tail<2>(), by = d_y.tail<2>();
+    // By x and y with the gradients' own dependence on them folded in.
+    const double alpha = d_x[0] - bx.dot(m2) / h.z();
+    const double beta = d_y[0] - by.dot(m2) / h.z();
+    const double delta = -(alpha * x + beta * y) - (bx.dot(gx) + by.dot(gy));
+    Eigen::Matrix3d a;
+    a.row(0) = alpha * pixel.transpose();
+    a.row(1) = beta * pixel.transpose();
+    a.row(2) = delta * pixel.transpose();
+    a.block<1, 2>(0, 0) += bx.transpose();
+    a.block<1, 2>(1, 0) += by.transpose();
+    a.block<1, 2>(2, 0) -= (x * bx + y * by).transpose();
+    return a / h.z();
+  }
+};
+
+// A separable filter with the same kernel both ways, edges replicated.
+cv::Mat Separable(const cv::Mat& image, const cv::Mat& kx, const cv::Mat& ky) {
+  cv::Mat out;
+  cv::sepFilter2D(image, out, CV_64F, kx, ky, cv::Point(-1, -1), 0.0,
+                  cv::BORDER_REPLICATE);
+  return out;
+}
+
+// The sharpening's Gaussian of sigma `r` (kSharpenHalfTaps each side,
+// normalised, as cv::getGaussianKernel) and its derivative by r.
+std::pair<cv::Mat, cv::Mat> GaussianAndDerivative(double r) {
+  const int taps = 2 * kSharpenHalfTaps + 1;
+  cv::Mat g(taps, 1, CV_64F), d(taps, 1, CV_64F);
+  double sum = 0.0, moment = 0.0;
+  for (int i = 0; i < taps; ++i) {
+    const double t = i - kSharpenHalfTaps;
+    g.at<double>(i) = std::exp(-t * t / (2.0 * r * r));
+    sum += g.at<double>(i);
+  }
+  g /= sum;
+  for (int i = 0; i < taps; ++i) {
+    const double t = i - kSharpenHalfTaps;
+    moment += g.at<double>(i) * t * t;
+  }
+  for (int i = 0; i < taps; ++i) {
+    const double t = i - kSharpenHalfTaps;
+    d.at<double>(i) = g.at<double>(i) * (t * t - moment) / (r * r * r);
+  }
+  return {g, d};
+}
+
+}  // namespace
+
+Eigen::Matrix3d TagPixelFromCell(const TagBitmap& bitmap,
+                                 const double* corners) {
+  const double q = (bitmap.total_width - bitmap.width_at_border) / 2.0;
+  const double e = q + bitmap.width_at_border;
+  const std::optional<Eigen::Matrix3d> h =
+      HomographyThrough({Eigen::Vector2d(q, e), Eigen::Vector2d(e, e),
+                         Eigen::Vector2d(e, q), Eigen::Vector2d(q, q)},
+                        {Eigen::Vector2d(corners[0], corners[1]),
+                         Eigen::Vector2d(corners[2], corners[3]),
+                         Eigen::Vector2d(corners[4], corners[5]),
+                         Eigen::Vector2d(corners[6], corners[7])});
+  // A fit's corners stay a quadrilateral near the start's.
+  return h.value_or(Eigen::Matrix3d::Identity());
+}
+
+struct TagImageCost::Light {
+  cv::Mat light;  // CV_64F, before the pixel filter
+  // d light / d parameter, for the parameters before kLightParams.
+  std::array<cv::Mat, kLightParams> d_light;
+};
+
+TagImageCost::TagImageCost(const cv::Mat& luma, const TagBitmap& bitmap,
+                           const cv::Rect& crop, const LumaEncoding& encoding)
+    : bitmap_(bitmap), crop_(crop), encoding_(encoding) {
+  const double per_code = LevelsPerCode(luma.depth(), encoding);
+  black_level_ = BlackLevel(encoding);
+  white_level_ = encoding.full_range ? 255.0 : 235.0;
+  luma(crop).convertTo(data_, CV_64F, per_code);
+  mutable_parameter_block_sizes()->push_back(kTagNumParams);
+}
+
+void TagImageCost::Start(double beyond_cells, double* params) {
+  const Eigen::Matrix3d cell_from_pixel =
+      TagPixelFromCell(bitmap_, params).inverse();
+  const int n = bitmap_.total_width;
+  const double lo = -beyond_cells;
+  const double hi = n + beyond_cells;
+  std::vector<double> levels[3];  // ink, paper, table
+  fitted_.clear();
+  for (int v = 0; v < crop_.height; ++v) {
+    for (int u = 0; u < crop_.width; ++u) {
+      const Eigen::Vector3d q =
+          cell_from_pixel * Eigen::Vector3d(u + crop_.x, v + crop_.y, 1.0);
+      const double x = q.x() / q.z(), y = q.y() / q.z();
+      if (!(x >= lo && x <= hi && y >= lo && y <= hi)) continue;
+      fitted_.push_back(v * crop_.width + u);
+      const double level = data_.at<double>(v, u);
+      const bool inside = x > 0 && x < n && y > 0 && y < n;
+      const double fx = x - std::floor(x), fy = y - std::floor(y);
+      if (!inside && (x < -0.3 || x > n + 0.3 || y < -0.3 || y > n + 0.3)) {
+        levels[2].push_back(level);
+      } else if (inside && std::min({fx, fy, 1 - fx, 1 - fy}) > 0.3) {
+        const bool white =
+            bitmap_.IsWhite(static_cast<int>(y), static_cast<int>(x));
+        levels[white ? 1 : 0].push_back(level);
+      }
+    }
+  }
+  const int where[3] = {kTagInk, kTagPaper, kTagTable};
+  for (int k = 0; k < 3; ++k) {
+    if (levels[k].empty()) continue;  // a table not in view: its start
+    const double code =
+        std::clamp((Median(std::move(levels[k])) - black_level_) /
+                       (white_level_ - black_level_),
+                   0.0, 1.0);
+    params[where[k]] = ToLinear(encoding_.transfer, code);
+  }
+  set_num_residuals(static_cast<int>(fitted_.size()));
+}
+
+// Each pixel's footprint, blurred by the lens, split into the fractions on
+// ink, paper and table, lit by the levels and the gradient; and where
+// asked, the derivatives of that light by the corners, the blur, the levels
+// and the gradient.
+TagImageCost::Light TagImageCost::LightOf(const double* p,
+                                          bool derivatives) const {
+  const Eigen::Matrix3d cell_from_pixel =
+      TagPixelFromCell(bitmap_, p).inverse();
+  // d cell_from_pixel / d corner, by central differences of the 8x8 solve
+  // (smooth in the corners; 1e-4 px leaves 1e-10 of truncation).
+  std::array<Eigen::Matrix3d, 8> d_cell_from_pixel;
+  if (derivatives) {
+    for (int k = 0; k < 8; ++k) {
+      std::array<double, 8> corners;
+      std::copy(p, p + 8, corners.begin());
+      const double step = 1e-4;
+      corners[k] = p[k] + step;
+      const Eigen::Matrix3d plus = TagPixelFromCell(bitmap_, corners.data());
+      corners[k] = p[k] - step;
+      const Eigen::Matrix3d minus = TagPixelFromCell(bitmap_, corners.data());
+      d_cell_from_pixel[k] =
+          -cell_from_pixel * ((plus - minus) / (2 * step)) * cell_from_pixel;
+    }
+  }
+  Light out;
+  out.light.create(crop_.size(), CV_64F);
+  if (derivatives) {
+    for (cv::Mat& d : out.d_light) d.create(crop_.size(), CV_64F);
+  }
+  const int n = bitmap_.total_width;
+  const double cx = crop_.x + 0.5 * crop_.width;
+  const double cy = crop_.y + 0.5 * crop_.height;
+  const double levels[3] = {p[kTagInk], p[kTagPaper], p[kTagTable]};
+  cv::parallel_for_(cv::Range(0, crop_.height), [&](const cv::Range& rows) {
+    AxisCover along_x, along_y;
+    for (int v = rows.start; v < rows.end; ++v) {
+      for (int u = 0; u < crop_.width; ++u) {
+        const PixelOnTag on(cell_from_pixel, u + crop_.x, v + crop_.y);
+        along_x.Fill(on.x, on.gx, p[kTagBlur], n, derivatives);
+        along_y.Fill(on.y, on.gy, p[kTagBlur], n, derivatives);
+        const double in_x = along_x.Beyond(0) - along_x.Beyond(n);
+        const double in_y = along_y.Beyond(0) - along_y.Beyond(n);
+        double fractions[3] = {0.0, 0.0, 1.0 - in_x * in_y};
+        // d(fractions · levels) / d(x axis's q, g, blur) and the y axis's.
+        Eigen::Vector4d d_x = Eigen::Vector4d::Zero();
+        Eigen::Vector4d d_y = Eigen::Vector4d::Zero();
+        if (derivatives) {
+          d_x = -levels[2] * in_y * (along_x.DBeyond(0) - along_x.DBeyond(n));
+          d_y = -levels[2] * in_x * (along_y.DBeyond(0) - along_y.DBeyond(n));
+        }
+        const auto [row_0, row_1] = along_y.Cells();
+        const auto [col_0, col_1] = along_x.Cells();
+        for (int row = row_0; row < row_1; ++row) {
+          const double cover_y = along_y.Beyond(row) - along_y.Beyond(row + 1);
+          if (cover_y == 0.0) continue;
+          for (int col = col_0; col < col_1; ++col) {
+            const double cover_x =
+                along_x.Beyond(col) - along_x.Beyond(col + 1);
+            if (cover_x == 0.0) continue;
+            const int colour = bitmap_.IsWhite(row, col) ? 1 : 0;
+            fractions[colour] += cover_x * cover_y;
+            if (!derivatives) continue;
+            d_x += levels[colour] * cover_y *
+                   (along_x.DBeyond(col) - along_x.DBeyond(col + 1));
+            d_y += levels[colour] * cover_x *
+                   (along_y.DBeyond(row) - along_y.DBeyond(row + 1));
+          }
+        }
+        const double lit = fractions[0] * levels[0] + fractions[1] * levels[1] +
+                           fractions[2] * levels[2];
+        const double du = 0.01 * (on.pixel.x() - cx);
+        const double dv = 0.01 * (on.pixel.y() - cy);
+        const double gain = 1.0 + p[kTagGainU] * du + p[kTagGainV] * dv;
+        out.light.at<double>(v, u) = lit * gain;
+        if (!derivatives) continue;
+        const bool moves = along_x.Moves() || along_y.Moves();
+        const Eigen::Matrix3d d_by_matrix =
+            moves ? Eigen::Matrix3d(gain * on.Derivative(cell_from_pixel,
+                                                         d_x.head<3>(),
+                                                         d_y.head<3>()))
+                  : Eigen::Matrix3d::Zero();
+        for (int k = 0; k < 8; ++k) {
+          out.d_light[k].at<double>(v, u) =
+              d_by_matrix.cwiseProduct(d_cell_from_pixel[k]).sum();
+        }
+        out.d_light[kTagBlur].at<double>(v, u) = gain * (d_x[3] + d_y[3]);
+        out.d_light[kTagInk].at<double>(v, u) = gain * fractions[0];
+        out.d_light[kTagPaper].at<double>(v, u) = gain * fractions[1];
+        out.d_light[kTagTable].at<double>(v, u) = gain * fractions[2];
+        out.d_light[kTagGainU].at<double>(v, u) = lit * du;
+        out.d_light[kTagGainV].at<double>(v, u) = lit * dv;
+      }
+    }
+  });
+  return out;
+}
+
+bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
+                            double** jacobians) const {
+  const double* p = parameters[0];
+  const bool derivatives = jacobians != nullptr && jacobians[0] != nullptr;
+  const Light light = LightOf(p, derivatives);
+  // The pixel filter, in light: taps (w, 1 - 2w, w) both ways.
+  const double w = p[kTagPixelFilter];
+  const cv::Mat taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
+  const cv::Mat filtered = Separable(light.light, taps, taps);
+  // The video's curve (clipped at black and white), then the tone curve:
+  // the codes, with their slope by the filtered light and by the curve's
+  // strength.
+  const double k = p[kTagToneCurve];
+  cv::Mat codes(crop_.size(), CV_64F), slope, by_strength;
+  if (derivatives) {
+    slope.create(crop_.size(), CV_64F);
+    by_strength.create(crop_.size(), CV_64F);
+  }
+  for (int i = 0; i < codes.rows * codes.cols; ++i) {
+    const double m = filtered.ptr<double>()[i];
+    const double c = std::clamp(
+        FromLinear(encoding_.transfer, std::clamp(m, 0.0, 1.0)), 0.0, 1.0);
+    codes.ptr<double>()[i] = (1.0 - k) * c + k * c * c * (3.0 - 2.0 * c);
+    if (!derivatives) continue;
+    slope.ptr<double>()[i] = ((1.0 - k) + 6.0 * k * c * (1.0 - c)) *
+                             FromLinearSlope(encoding_.transfer, m);
+    by_strength.ptr<double>()[i] = c * c * (3.0 - 2.0 * c) - c;
+  }
+  // Unsharp-mask sharpening on the codes; the camera's codes clip at black
+  // and white (its R'G'B' do, before they become luma), which hides the
+  // halos of ink and paper.
+  const double a = p[kTagSharpenAmount];
+  const std::pair<cv::Mat, cv::Mat> kernels =
+      GaussianAndDerivative(p[kTagSharpenRadius]);
+  const cv::Mat& gaussian = kernels.first;
+  const cv::Mat& d_gaussian = kernels.second;
+  const cv::Mat soft = Separable(codes, gaussian, gaussian);
+  const cv::Mat sharpened = codes + a * (codes - soft);
+  const double span = white_level_ - black_level_;
+  const double* model = sharpened.ptr<double>();
+  const double* data = data_.ptr<double>();
+  for (size_t i = 0; i < fitted_.size(); ++i) {
+    residuals[i] = black_level_ +
+                   span * std::clamp(model[fitted_[i]], 0.0, 1.0) -
+                   data[fitted_[i]];
+  }
+  if (!derivatives) return true;
+  double* jacobian = jacobians[0];
+  // One column: d residual / d parameter from d sharpened / d parameter,
+  // zero where the codes clip.
+  const auto put = [&](int j, const cv::Mat& d_sharpened) {
+    const double* d = d_sharpened.ptr<double>();
+    for (size_t i = 0; i < fitted_.size(); ++i) {
+      const double m = model[fitted_[i]];
+      jacobian[i * kTagNumParams + j] =
+          m > 0.0 && m < 1.0 ? span * d[fitted_[i]] : 0.0;
+    }
+  };
+  // d sharpened from d codes: the unsharp mask is linear.
+  const auto sharpen = [&](const cv::Mat& d_codes) -> cv::Mat {
+    return (1.0 + a) * d_codes - a * Separable(d_codes, gaussian, gaussian);
+  };
+  const cv::Mat d_taps = (cv::Mat_<double>(3, 1) << 1.0, -2.0, 1.0);
+  // d sharpened / d parameter j.
+  const auto column = [&](int j) -> cv::Mat {
+    if (j < kLightParams) {
+      return sharpen(slope.mul(Separable(light.d_light[j], taps, taps)));
+    }
+    switch (j) {
+      case kTagPixelFilter:
+        return sharpen(slope.mul(Separable(light.light, d_taps, taps) +
+                                 Separable(light.light, taps, d_taps)));
+      case kTagToneCurve:
+        return sharpen(by_strength);
+      case kTagSharpenAmount:
+        return codes - soft;
+      default:  // kTagSharpenRadius
+        return -a * (Separable(codes, d_gaussian, gaussian) +
+                     Separable(codes, gaussian, d_gaussian));
+    }
+  };
+  // The columns are independent: on all cores.
+  cv::parallel_for_(cv::Range(0, kTagNumParams), [&](const cv::Range& range) {
+    for (int j = range.start; j < range.end; ++j) put(j, column(j));
+  });
+  return true;
+}
+
+}  // namespace softbench

@@ -1,0 +1,82 @@
+#ifndef SOFTBENCH_VISION_TAG_IMAGE_MODEL_H_
+#define SOFTBENCH_VISION_TAG_IMAGE_MODEL_H_
+
+#include <ceres/cost_function.h>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "vision/color_transfer.h"
+#include "vision/tag_bitmap.h"
+
+namespace softbench {
+
+// The parameters of a tag's image (vision/tag_model.h), one block: the
+// border's four outer corners (x, y) in libapriltag's order, the lens's blur
+// (Gaussian sigma in light, px), the linear light of ink, paper and table,
+// the lighting's gradient across the crop (per 100 px, right and down), the
+// tone curve's strength, the sharpening's radius (px) and amount, and the
+// side taps of a 3-tap filter on the pixels in light (a sensor's and a
+// scaler's blur, which the pixel grid samples rather than a lens's
+// continuous one).
+enum TagImageParam {
+  kTagCorners = 0,
+  kTagBlur = 8,
+  kTagInk,
+  kTagPaper,
+  kTagTable,
+  kTagGainU,
+  kTagGainV,
+  kTagToneCurve,
+  kTagSharpenRadius,
+  kTagSharpenAmount,
+  kTagPixelFilter,
+  kTagNumParams
+};
+constexpr double kTagMaxSharpenRadiusPx = 3.0;
+
+// The homography taking tag cells (column, row; the quiet zone's corner at
+// 0) to pixels, through the border's outer corners (8 numbers, x then y) in
+// libapriltag's order (counter-clockwise in the printed tag from its
+// bottom-left).
+Eigen::Matrix3d TagPixelFromCell(const TagBitmap& bitmap,
+                                 const double* corners);
+
+// The tag's image over a crop of the luma, as a Ceres cost function of the
+// parameters above: one residual per fitted pixel, the model's code less the
+// luma's, in 8-bit levels. Its Jacobian is analytic: each pixel's cover of
+// ink, paper and table is integrated in closed form, and so are its
+// derivatives; the filters after it are linear, the curves pointwise.
+class TagImageCost : public ceres::CostFunction {
+ public:
+  // `luma`: CV_8UC1 or CV_16UC1 (vision/luma.h); `crop` lies inside it.
+  // `bitmap` must outlive the cost.
+  TagImageCost(const cv::Mat& luma, const TagBitmap& bitmap,
+               const cv::Rect& crop, const LumaEncoding& encoding);
+
+  // Chooses the fitted pixels, those whose point on the tag (through the
+  // corners in `params`) lies within `beyond_cells` of the quiet zone's
+  // outer edge, either side; sets the residuals' count; and sets the
+  // starting light of ink, paper and table in `params` (the medians of the
+  // fitted pixels well inside cells of each, through the video's curve).
+  void Start(double beyond_cells, double* params);
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  struct Light;
+  Light LightOf(const double* params, bool derivatives) const;
+
+  const TagBitmap& bitmap_;
+  cv::Rect crop_;
+  LumaEncoding encoding_;
+  cv::Mat data_;  // CV_64F, 8-bit levels
+  std::vector<int> fitted_;
+  double black_level_ = 0, white_level_ = 255;
+};
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_VISION_TAG_IMAGE_MODEL_H_
