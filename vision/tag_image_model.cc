@@ -170,26 +170,16 @@ cv::Mat Separable(const cv::Mat& image, const cv::Mat& kx, const cv::Mat& ky) {
 }
 
 // The sharpening's Gaussian of sigma `r` (kSharpenHalfTaps each side,
-// normalised, as cv::getGaussianKernel) and its derivative by r.
+// normalised: cv::getGaussianKernel, as cv::GaussianBlur) and its
+// derivative by r: g_t (t^2 - sum g t^2) / r^3 for the normalised taps.
 std::pair<cv::Mat, cv::Mat> GaussianAndDerivative(double r) {
-  const int taps = 2 * kSharpenHalfTaps + 1;
-  cv::Mat g(taps, 1, CV_64F), d(taps, 1, CV_64F);
-  double sum = 0.0, moment = 0.0;
-  for (int i = 0; i < taps; ++i) {
-    const double t = i - kSharpenHalfTaps;
-    g.at<double>(i) = std::exp(-t * t / (2.0 * r * r));
-    sum += g.at<double>(i);
+  const cv::Mat g = cv::getGaussianKernel(2 * kSharpenHalfTaps + 1, r, CV_64F);
+  cv::Mat t2(g.size(), CV_64F);
+  for (int i = 0; i < g.rows; ++i) {
+    t2.at<double>(i) = (i - kSharpenHalfTaps) * (i - kSharpenHalfTaps);
   }
-  g /= sum;
-  for (int i = 0; i < taps; ++i) {
-    const double t = i - kSharpenHalfTaps;
-    moment += g.at<double>(i) * t * t;
-  }
-  for (int i = 0; i < taps; ++i) {
-    const double t = i - kSharpenHalfTaps;
-    d.at<double>(i) = g.at<double>(i) * (t * t - moment) / (r * r * r);
-  }
-  return {g, d};
+  const double moment = g.dot(t2);
+  return {g, g.mul(t2 - moment) / (r * r * r)};
 }
 
 }  // namespace
