@@ -17,9 +17,6 @@ namespace {
 // The parameters that move the light before the pixel filter: the corners,
 // the blur, the levels and the lighting's gradient.
 constexpr int kLightParams = kTagToneCurve;
-// Half the taps of the sharpening's Gaussian: 4 sigma of the widest.
-const int kSharpenHalfTaps =
-    static_cast<int>(std::ceil(4 * kTagMaxSharpenRadiusPx));
 
 // The fraction of a pixel's footprint on the far side of a boundary at
 // signed distance d [px] (positive: the pixel's centre beyond it), and its
@@ -108,10 +105,12 @@ class AxisCover {
   // cover does not move with the point, and its derivatives are zero.
   bool Moves() const { return near_1_ > near_0_; }
   // The cells [first, last) the footprint touches: past every boundary
-  // before the first, past none after the last.
+  // before the first, past none after the last (only the boundaries in
+  // reach are searched).
   std::pair<int, int> Cells() const {
-    int first = 0, last = n_;
+    int first = std::clamp(near_0_ - 1, 0, n_);
     while (first < n_ && Beyond(first + 1) == 1.0) ++first;
+    int last = std::clamp(near_1_, first, n_);
     while (last > first && Beyond(last - 1) == 0.0) --last;
     return {first, last};
   }
@@ -169,14 +168,20 @@ cv::Mat Separable(const cv::Mat& image, const cv::Mat& kx, const cv::Mat& ky) {
   return out;
 }
 
-// The sharpening's Gaussian of sigma `r` (kSharpenHalfTaps each side,
-// normalised: cv::getGaussianKernel, as cv::GaussianBlur) and its
-// derivative by r: g_t (t^2 - sum g t^2) / r^3 for the normalised taps.
+// The sharpening's Gaussian of sigma `r`, normalised, to 4 sigma each side
+// (cv::getGaussianKernel, with the size cv::GaussianBlur gives a
+// floating-point image; the taps beyond hold 6e-5 of its weight, and
+// taking 4 sigma of the widest radius instead, 25 taps, nearly doubled the
+// filters' work at 1.5 px), and its derivative by r at that size:
+// g_t (t^2 - sum g t^2) / r^3 for the normalised taps.
+int SharpenHalfTaps(double r) { return static_cast<int>(std::ceil(4.0 * r)); }
+
 std::pair<cv::Mat, cv::Mat> GaussianAndDerivative(double r) {
-  const cv::Mat g = cv::getGaussianKernel(2 * kSharpenHalfTaps + 1, r, CV_64F);
+  const int half_taps = SharpenHalfTaps(r);
+  const cv::Mat g = cv::getGaussianKernel(2 * half_taps + 1, r, CV_64F);
   cv::Mat t2(g.size(), CV_64F);
   for (int i = 0; i < g.rows; ++i) {
-    t2.at<double>(i) = (i - kSharpenHalfTaps) * (i - kSharpenHalfTaps);
+    t2.at<double>(i) = (i - half_taps) * (i - half_taps);
   }
   const double moment = g.dot(t2);
   return {g, g.mul(t2 - moment) / (r * r * r)};
@@ -223,6 +228,7 @@ void TagImageCost::Start(double beyond_cells, double* params) {
   const double hi = n + beyond_cells;
   std::vector<double> levels[3];  // ink, paper, table
   fitted_.clear();
+  int u_0 = crop_.width, v_0 = crop_.height, u_1 = 0, v_1 = 0;
   for (int v = 0; v < crop_.height; ++v) {
     for (int u = 0; u < crop_.width; ++u) {
       const Eigen::Vector3d q =
@@ -230,6 +236,10 @@ void TagImageCost::Start(double beyond_cells, double* params) {
       const double x = q.x() / q.z(), y = q.y() / q.z();
       if (!(x >= lo && x <= hi && y >= lo && y <= hi)) continue;
       fitted_.push_back(v * crop_.width + u);
+      u_0 = std::min(u_0, u);
+      v_0 = std::min(v_0, v);
+      u_1 = std::max(u_1, u + 1);
+      v_1 = std::max(v_1, v + 1);
       const double level = data_.at<double>(v, u);
       const bool inside = x > 0 && x < n && y > 0 && y < n;
       const double fx = x - std::floor(x), fy = y - std::floor(y);
@@ -251,6 +261,7 @@ void TagImageCost::Start(double beyond_cells, double* params) {
                    0.0, 1.0);
     params[where[k]] = ToLinear(encoding_.transfer, code);
   }
+  fitted_box_ = cv::Rect(cv::Point(u_0, v_0), cv::Point(u_1, v_1));
   set_num_residuals(static_cast<int>(fitted_.size()));
 }
 
@@ -258,8 +269,8 @@ void TagImageCost::Start(double beyond_cells, double* params) {
 // ink, paper and table, lit by the levels and the gradient; and where
 // asked, the derivatives of that light by the corners, the blur, the levels
 // and the gradient.
-TagImageCost::Light TagImageCost::LightOf(const double* p,
-                                          bool derivatives) const {
+TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
+                                          const cv::Rect& region) const {
   const Eigen::Matrix3d cell_from_pixel =
       TagPixelFromCell(bitmap_, p).inverse();
   // d cell_from_pixel / d corner, by central differences of the 8x8 solve
@@ -279,19 +290,20 @@ TagImageCost::Light TagImageCost::LightOf(const double* p,
     }
   }
   Light out;
-  out.light.create(crop_.size(), CV_64F);
+  out.light.create(region.size(), CV_64F);
   if (derivatives) {
-    for (cv::Mat& d : out.d_light) d.create(crop_.size(), CV_64F);
+    for (cv::Mat& d : out.d_light) d.create(region.size(), CV_64F);
   }
   const int n = bitmap_.total_width;
   const double cx = crop_.x + 0.5 * crop_.width;
   const double cy = crop_.y + 0.5 * crop_.height;
   const double levels[3] = {p[kTagInk], p[kTagPaper], p[kTagTable]};
-  cv::parallel_for_(cv::Range(0, crop_.height), [&](const cv::Range& rows) {
+  cv::parallel_for_(cv::Range(0, region.height), [&](const cv::Range& rows) {
     AxisCover along_x, along_y;
     for (int v = rows.start; v < rows.end; ++v) {
-      for (int u = 0; u < crop_.width; ++u) {
-        const PixelOnTag on(cell_from_pixel, u + crop_.x, v + crop_.y);
+      for (int u = 0; u < region.width; ++u) {
+        const PixelOnTag on(cell_from_pixel, u + crop_.x + region.x,
+                            v + crop_.y + region.y);
         along_x.Fill(on.x, on.gx, p[kTagBlur], n, derivatives);
         along_y.Fill(on.y, on.gy, p[kTagBlur], n, derivatives);
         const double in_x = along_x.Beyond(0) - along_x.Beyond(n);
@@ -351,11 +363,29 @@ TagImageCost::Light TagImageCost::LightOf(const double* p,
   return out;
 }
 
+cv::Rect TagImageCost::Region(double sharpen_radius_px,
+                              std::vector<int>* at) const {
+  // The pixel filter's tap and the sharpening's.
+  const int reach = SharpenHalfTaps(sharpen_radius_px) + 1;
+  const cv::Rect region =
+      cv::Rect(fitted_box_.x - reach, fitted_box_.y - reach,
+               fitted_box_.width + 2 * reach, fitted_box_.height + 2 * reach) &
+      cv::Rect(cv::Point(0, 0), crop_.size());
+  at->resize(fitted_.size());
+  for (size_t i = 0; i < fitted_.size(); ++i) {
+    (*at)[i] = (fitted_[i] / crop_.width - region.y) * region.width +
+               fitted_[i] % crop_.width - region.x;
+  }
+  return region;
+}
+
 bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
                             double** jacobians) const {
   const double* p = parameters[0];
   const bool derivatives = jacobians != nullptr && jacobians[0] != nullptr;
-  const Light light = LightOf(p, derivatives);
+  std::vector<int> at;
+  const cv::Rect region = Region(p[kTagSharpenRadius], &at);
+  const Light light = LightOf(p, derivatives, region);
   // The pixel filter, in light: taps (w, 1 - 2w, w) both ways.
   const double w = p[kTagPixelFilter];
   const cv::Mat taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
@@ -364,21 +394,24 @@ bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
   // the codes, with their slope by the filtered light and by the curve's
   // strength.
   const double k = p[kTagToneCurve];
-  cv::Mat codes(crop_.size(), CV_64F), slope, by_strength;
+  cv::Mat codes(region.size(), CV_64F), slope, by_strength;
   if (derivatives) {
-    slope.create(crop_.size(), CV_64F);
-    by_strength.create(crop_.size(), CV_64F);
+    slope.create(region.size(), CV_64F);
+    by_strength.create(region.size(), CV_64F);
   }
-  for (int i = 0; i < codes.rows * codes.cols; ++i) {
-    const double m = filtered.ptr<double>()[i];
-    const double c = std::clamp(
-        FromLinear(encoding_.transfer, std::clamp(m, 0.0, 1.0)), 0.0, 1.0);
-    codes.ptr<double>()[i] = (1.0 - k) * c + k * c * c * (3.0 - 2.0 * c);
-    if (!derivatives) continue;
-    slope.ptr<double>()[i] = ((1.0 - k) + 6.0 * k * c * (1.0 - c)) *
-                             FromLinearSlope(encoding_.transfer, m);
-    by_strength.ptr<double>()[i] = c * c * (3.0 - 2.0 * c) - c;
-  }
+  // Pointwise, through pow(): on all cores.
+  cv::parallel_for_(cv::Range(0, codes.rows), [&](const cv::Range& rows) {
+    for (int i = rows.start * codes.cols; i < rows.end * codes.cols; ++i) {
+      const double m = filtered.ptr<double>()[i];
+      const double c = std::clamp(
+          FromLinear(encoding_.transfer, std::clamp(m, 0.0, 1.0)), 0.0, 1.0);
+      codes.ptr<double>()[i] = (1.0 - k) * c + k * c * c * (3.0 - 2.0 * c);
+      if (!derivatives) continue;
+      slope.ptr<double>()[i] = ((1.0 - k) + 6.0 * k * c * (1.0 - c)) *
+                               FromLinearSlope(encoding_.transfer, m);
+      by_strength.ptr<double>()[i] = c * c * (3.0 - 2.0 * c) - c;
+    }
+  });
   // Unsharp-mask sharpening on the codes; the camera's codes clip at black
   // and white (its R'G'B' do, before they become luma), which hides the
   // halos of ink and paper.
@@ -393,22 +426,10 @@ bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
   const double* model = sharpened.ptr<double>();
   const double* data = data_.ptr<double>();
   for (size_t i = 0; i < fitted_.size(); ++i) {
-    residuals[i] = black_level_ +
-                   span * std::clamp(model[fitted_[i]], 0.0, 1.0) -
+    residuals[i] = black_level_ + span * std::clamp(model[at[i]], 0.0, 1.0) -
                    data[fitted_[i]];
   }
   if (!derivatives) return true;
-  double* jacobian = jacobians[0];
-  // One column: d residual / d parameter from d sharpened / d parameter,
-  // zero where the codes clip.
-  const auto put = [&](int j, const cv::Mat& d_sharpened) {
-    const double* d = d_sharpened.ptr<double>();
-    for (size_t i = 0; i < fitted_.size(); ++i) {
-      const double m = model[fitted_[i]];
-      jacobian[i * kTagNumParams + j] =
-          m > 0.0 && m < 1.0 ? span * d[fitted_[i]] : 0.0;
-    }
-  };
   // d sharpened from d codes: the unsharp mask is linear.
   const auto sharpen = [&](const cv::Mat& d_codes) -> cv::Mat {
     return (1.0 + a) * d_codes - a * Separable(d_codes, gaussian, gaussian);
@@ -433,9 +454,25 @@ bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
     }
   };
   // The columns are independent: on all cores.
+  std::array<cv::Mat, kTagNumParams> columns;
   cv::parallel_for_(cv::Range(0, kTagNumParams), [&](const cv::Range& range) {
-    for (int j = range.start; j < range.end; ++j) put(j, column(j));
+    for (int j = range.start; j < range.end; ++j) columns[j] = column(j);
   });
+  // d residual / d parameter from d sharpened / d parameter, zero where the
+  // codes clip; a row at a time, so that no two cores write the same row.
+  double* jacobian = jacobians[0];
+  cv::parallel_for_(cv::Range(0, static_cast<int>(fitted_.size())),
+                    [&](const cv::Range& range) {
+                      for (int i = range.start; i < range.end; ++i) {
+                        const double m = model[at[i]];
+                        const bool clipped = !(m > 0.0 && m < 1.0);
+                        for (int j = 0; j < kTagNumParams; ++j) {
+                          jacobian[i * kTagNumParams + j] =
+                              clipped ? 0.0
+                                      : span * columns[j].ptr<double>()[at[i]];
+                        }
+                      }
+                    });
   return true;
 }
 

@@ -67,13 +67,20 @@ class TagImageCost : public ceres::CostFunction {
 
  private:
   struct Light;
-  Light LightOf(const double* params, bool derivatives) const;
+  // The part of the crop the model is drawn on: where the filters of the
+  // fitted pixels reach, at this sharpening radius; and each fitted pixel's
+  // index in it.
+  cv::Rect Region(double sharpen_radius_px, std::vector<int>* at) const;
+  // The light over `region` (in the crop).
+  Light LightOf(const double* params, bool derivatives,
+                const cv::Rect& region) const;
 
   const TagBitmap& bitmap_;
   cv::Rect crop_;
   LumaEncoding encoding_;
-  cv::Mat data_;  // CV_64F, 8-bit levels
-  std::vector<int> fitted_;
+  cv::Mat data_;             // CV_64F, 8-bit levels
+  std::vector<int> fitted_;  // indices in the crop
+  cv::Rect fitted_box_;      // their bounding box in the crop
   double black_level_ = 0, white_level_ = 255;
 };
 

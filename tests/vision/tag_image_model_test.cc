@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <array>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -21,11 +22,10 @@ std::vector<double> Residuals(const TagImageCost& cost,
   return r;
 }
 
-// A tag of 9 px cells, tilted and in perspective, blurred, curved and
-// sharpened (no code clipped), through `encoding`.
-void CheckJacobian(const LumaEncoding& encoding, int depth) {
-  const TagBitmap bitmap = Tag36h11Bitmap(7);
-  const cv::Mat luma = cv::Mat::zeros(200, 220, depth);
+// A tag of 9 px cells in a 220 x 200 image, tilted and in perspective,
+// blurred, curved and sharpened (no code clipped).
+const cv::Rect kCrop(20, 20, 170, 160);
+std::array<double, kTagNumParams> TiltedTag() {
   std::array<double, kTagNumParams> p{};
   // Border corners: bottom-left, bottom-right, top-right, top-left.
   const double corners[8] = {62.3,  140.1, 135.7, 143.9,
@@ -41,7 +41,15 @@ void CheckJacobian(const LumaEncoding& encoding, int depth) {
   p[kTagSharpenRadius] = 1.3;
   p[kTagSharpenAmount] = 0.4;
   p[kTagPixelFilter] = 0.08;
-  TagImageCost cost(luma, bitmap, cv::Rect(20, 20, 170, 160), encoding);
+  return p;
+}
+
+// TiltedTag() through `encoding`.
+void CheckJacobian(const LumaEncoding& encoding, int depth) {
+  const TagBitmap bitmap = Tag36h11Bitmap(7);
+  const cv::Mat luma = cv::Mat::zeros(200, 220, depth);
+  const std::array<double, kTagNumParams> p = TiltedTag();
+  TagImageCost cost(luma, bitmap, kCrop, encoding);
   std::array<double, kTagNumParams> start = p;
   cost.Start(0.5, start.data());  // chooses the pixels; levels from data
   ASSERT_GT(cost.num_residuals(), 5000);
@@ -68,6 +76,61 @@ void CheckJacobian(const LumaEncoding& encoding, int depth) {
     EXPECT_GT(largest, 0.0) << "parameter " << j;
     EXPECT_LT(worst, 1e-6 * largest) << "parameter " << j;
   }
+}
+
+// The model is drawn only as far as the fitted pixels' filters reach: a
+// pixel's level must not depend on how many pixels around it are fitted.
+TEST(TagImageCost, APixelsLevelDoesNotDependOnWhichPixelsAreFitted) {
+  const TagBitmap bitmap = Tag36h11Bitmap(7);
+  const cv::Mat luma = cv::Mat::zeros(200, 220, CV_8U);
+  const cv::Rect& crop = kCrop;
+  const LumaEncoding encoding{.transfer = Transfer::kSdr, .full_range = false};
+  std::array<double, kTagNumParams> p = TiltedTag();
+  // The widest sharpening the fit allows, and a strong one, on a lighting
+  // gradient that makes the table's level vary: the filters' reach is the
+  // longest, and what they reach is not flat.
+  p[kTagSharpenRadius] = kTagMaxSharpenRadiusPx;
+  p[kTagSharpenAmount] = 1.5;
+  p[kTagGainU] = 0.2;
+  p[kTagGainV] = -0.1;
+  // The near pixels end at the quiet zone's outer edge, whose halo then
+  // lies outside them.
+  const double near_cells = 0.0, far_cells = 1.5;
+  TagImageCost near(luma, bitmap, crop, encoding);
+  TagImageCost far(luma, bitmap, crop, encoding);
+  std::array<double, kTagNumParams> start = p;
+  near.Start(near_cells, start.data());
+  far.Start(far_cells, start.data());
+  ASSERT_GT(far.num_residuals(), near.num_residuals() + 1000);
+  const std::vector<double> from_near = Residuals(near, p);
+  const std::vector<double> from_far = Residuals(far, p);
+  // Both walk the crop row by row; the near pixels are those within
+  // near_cells of the quiet zone's edge (TagImageCost::Start).
+  const Eigen::Matrix3d cell_from_pixel =
+      TagPixelFromCell(bitmap, p.data()).inverse();
+  const double n = bitmap.total_width;
+  const auto within = [&](int u, int v, double cells) {
+    const Eigen::Vector3d q =
+        cell_from_pixel * Eigen::Vector3d(u + crop.x, v + crop.y, 1.0);
+    const double x = q.x() / q.z(), y = q.y() / q.z();
+    return x >= -cells && x <= n + cells && y >= -cells && y <= n + cells;
+  };
+  size_t i_near = 0, i_far = 0;
+  double worst = 0.0;
+  for (int v = 0; v < crop.height; ++v) {
+    for (int u = 0; u < crop.width; ++u) {
+      if (!within(u, v, far_cells)) continue;
+      if (within(u, v, near_cells)) {
+        ASSERT_LT(i_near, from_near.size());
+        worst =
+            std::max(worst, std::abs(from_near[i_near++] - from_far[i_far]));
+      }
+      ++i_far;
+    }
+  }
+  EXPECT_EQ(i_near, from_near.size());
+  EXPECT_EQ(i_far, from_far.size());
+  EXPECT_LT(worst, 1e-9);
 }
 
 TEST(TagImageCost, JacobianMatchesCentralDifferencesInSdr) {
