@@ -45,34 +45,51 @@ struct Coverage {
   }
 };
 
+// A pixel's footprint projected on the normal of one of the tag's axes,
+// from the axis's gradient in pixels `g` and the lens's blur: a box of
+// width w (the larger component of the unit pixel), convolved with one of
+// the smaller (taken as its variance) and the blur, as a Gaussian of sigma
+// s; and how far from the footprint's centre a boundary still moves its
+// cover [cells].
+struct Footprint {
+  double norm, w, minor, s, reach_cells;
+  int major;
+  Footprint(const Eigen::Vector2d& g, double blur)
+      : norm(g.norm()), major(std::abs(g.x()) >= std::abs(g.y()) ? 0 : 1) {
+    w = std::abs(g[major]) / norm;
+    minor = std::abs(g[1 - major]) / norm;
+    s = std::sqrt(blur * blur + minor * minor / 12.0 + 1e-8);
+    reach_cells = (0.5 * w + 7.0 * s) * norm;
+  }
+  // Whether the boundaries either side of cell coordinate `q` are both out
+  // of reach (Coverage is then exactly 0 or 1 for every boundary).
+  bool InOneCell(double q) const {
+    const double f = q - std::floor(q);
+    return f >= reach_cells && 1.0 - f >= reach_cells;
+  }
+};
+
 // Along one of the tag's axes at a pixel: the fraction of the pixel's
 // footprint past each cell boundary, from the point's cell coordinate `q`,
-// its gradient in pixels and the blur; and, where asked, the derivatives of
-// each by (q, gradient x, gradient y, blur). Only the boundaries within the
-// blur's reach are evaluated and stored: those before are passed wholly,
-// those after not at all.
+// its gradient in pixels `g`, its footprint and the blur; and, where asked,
+// the derivatives of each by (q, gradient x, gradient y, blur). Only the
+// boundaries within the blur's reach are evaluated and stored: those before
+// are passed wholly, those after not at all.
 class AxisCover {
  public:
-  void Fill(double q, const Eigen::Vector2d& g, double blur, int n,
-            bool derivatives) {
+  void Fill(double q, const Eigen::Vector2d& g, const Footprint& f, double blur,
+            int n, bool derivatives) {
     n_ = n;
-    const double norm = g.norm();
-    const double px_per_cell = 1.0 / norm;
-    // A unit pixel projected on the normal: a box of the larger component,
-    // convolved with one of the smaller, taken as its variance.
-    const int major = std::abs(g.x()) >= std::abs(g.y()) ? 0 : 1;
-    const double w = std::abs(g[major]) / norm;
-    const double minor = std::abs(g[1 - major]) / norm;
-    const double s = std::sqrt(blur * blur + minor * minor / 12.0 + 1e-8);
-    const double reach_cells = (0.5 * w + 7.0 * s) * norm;
+    const double px_per_cell = 1.0 / f.norm;
     near_0_ =
-        std::clamp(static_cast<int>(std::floor(q - reach_cells)), 0, n + 1);
-    near_1_ = std::clamp(static_cast<int>(std::ceil(q + reach_cells)) + 1,
+        std::clamp(static_cast<int>(std::floor(q - f.reach_cells)), 0, n + 1);
+    near_1_ = std::clamp(static_cast<int>(std::ceil(q + f.reach_cells)) + 1,
                          near_0_, n + 1);
     if (beyond_.size() < static_cast<size_t>(n) + 1) {
       beyond_.resize(n + 1);
       d_beyond_.resize(n + 1);
     }
+    const double norm = f.norm;
     // d(|g_j| / |g|) / dg.
     const auto d_ratio = [&](int j) {
       Eigen::Vector2d r = -std::abs(g[j]) / (norm * norm * norm) * g;
@@ -82,17 +99,17 @@ class AxisCover {
     Eigen::Vector2d d_w = Eigen::Vector2d::Zero();
     Eigen::Vector2d d_s_d_g = Eigen::Vector2d::Zero();
     if (derivatives && near_1_ > near_0_) {
-      d_w = d_ratio(major);
-      d_s_d_g = minor / (12.0 * s) * d_ratio(1 - major);
+      d_w = d_ratio(f.major);
+      d_s_d_g = f.minor / (12.0 * f.s) * d_ratio(1 - f.major);
     }
     for (int i = near_0_; i < near_1_; ++i) {
-      const Coverage c((q - i) * px_per_cell, w, s);
+      const Coverage c((q - i) * px_per_cell, f.w, f.s);
       beyond_[i] = c.value;
       if (!derivatives) continue;
       const Eigen::Vector2d d_g =
           c.d_d * (-(q - i) / (norm * norm * norm)) * g + c.d_w * d_w +
           c.d_s * d_s_d_g;
-      d_beyond_[i] << c.d_d * px_per_cell, d_g.x(), d_g.y(), c.d_s * blur / s;
+      d_beyond_[i] << c.d_d * px_per_cell, d_g.x(), d_g.y(), c.d_s * blur / f.s;
     }
   }
   double Beyond(int i) const {
@@ -204,6 +221,33 @@ Eigen::Matrix3d TagPixelFromCell(const TagBitmap& bitmap,
   return h.value_or(Eigen::Matrix3d::Identity());
 }
 
+namespace {
+
+// The light at (v, u) of a pixel `on` whose footprint lies in one cell
+// (Footprint::InOneCell along both axes), or wholly on the table: its
+// level's, lit; and where asked its derivatives, by that level and the
+// gradient only (neither the corners nor the blur move it).
+void FlatPixel(const PixelOnTag& on, int n, const double levels[3],
+               const TagBitmap& bitmap, double gain, double du, double dv,
+               int v, int u, cv::Mat* light,
+               std::array<cv::Mat, kLightParams>* d_light) {
+  const int col = static_cast<int>(std::floor(on.x));
+  const int row = static_cast<int>(std::floor(on.y));
+  const int colour = col >= 0 && col < n && row >= 0 && row < n
+                         ? (bitmap.IsWhite(row, col) ? 1 : 0)
+                         : 2;  // ink, paper, table
+  light->at<double>(v, u) = levels[colour] * gain;
+  if (d_light == nullptr) return;
+  for (int k = 0; k <= kTagBlur; ++k) (*d_light)[k].at<double>(v, u) = 0.0;
+  for (int m = 0; m < 3; ++m) {
+    (*d_light)[kTagInk + m].at<double>(v, u) = m == colour ? gain : 0.0;
+  }
+  (*d_light)[kTagGainU].at<double>(v, u) = levels[colour] * du;
+  (*d_light)[kTagGainV].at<double>(v, u) = levels[colour] * dv;
+}
+
+}  // namespace
+
 struct TagImageCost::Light {
   cv::Mat light;  // CV_64F, before the pixel filter
   // d light / d parameter, for the parameters before kLightParams.
@@ -304,8 +348,20 @@ TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
       for (int u = 0; u < region.width; ++u) {
         const PixelOnTag on(cell_from_pixel, u + crop_.x + region.x,
                             v + crop_.y + region.y);
-        along_x.Fill(on.x, on.gx, p[kTagBlur], n, derivatives);
-        along_y.Fill(on.y, on.gy, p[kTagBlur], n, derivatives);
+        const double du = 0.01 * (on.pixel.x() - cx);
+        const double dv = 0.01 * (on.pixel.y() - cy);
+        const double gain = 1.0 + p[kTagGainU] * du + p[kTagGainV] * dv;
+        // Most pixels lie inside one cell, beyond the blur's reach of its
+        // boundaries: their light is drawn without evaluating any cover
+        // (BM_FitTagModel 46.6 -> 37.5 ms), to the same numbers.
+        const Footprint foot_x(on.gx, p[kTagBlur]), foot_y(on.gy, p[kTagBlur]);
+        if (foot_x.InOneCell(on.x) && foot_y.InOneCell(on.y)) {
+          FlatPixel(on, n, levels, bitmap_, gain, du, dv, v, u, &out.light,
+                    derivatives ? &out.d_light : nullptr);
+          continue;
+        }
+        along_x.Fill(on.x, on.gx, foot_x, p[kTagBlur], n, derivatives);
+        along_y.Fill(on.y, on.gy, foot_y, p[kTagBlur], n, derivatives);
         const double in_x = along_x.Beyond(0) - along_x.Beyond(n);
         const double in_y = along_y.Beyond(0) - along_y.Beyond(n);
         double fractions[3] = {0.0, 0.0, 1.0 - in_x * in_y};
@@ -336,9 +392,6 @@ TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
         }
         const double lit = fractions[0] * levels[0] + fractions[1] * levels[1] +
                            fractions[2] * levels[2];
-        const double du = 0.01 * (on.pixel.x() - cx);
-        const double dv = 0.01 * (on.pixel.y() - cy);
-        const double gain = 1.0 + p[kTagGainU] * du + p[kTagGainV] * dv;
         out.light.at<double>(v, u) = lit * gain;
         if (!derivatives) continue;
         const bool moves = along_x.Moves() || along_y.Moves();

@@ -18,6 +18,7 @@
 #include "pipelines/commands/command_table.h"
 #include "pipelines/commands/stderr_progress.h"
 #include "util/input_error.h"
+#include "util/memory_policy.h"
 #include "util/progress.h"
 #include "util/version.h"
 
@@ -72,6 +73,7 @@ const CLI::Validator kFiniteNumber(
 // An exception escaping the set-up below, before the one catch, is a bug in
 // the command table: terminating on it is right.
 int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
+  softbench::KeepFreedMemory();
   CLI::App app{
       "softbench: soft pneumatic actuator mechanisms, from model to bench "
       "video"};

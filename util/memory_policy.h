@@ -1,0 +1,20 @@
+#ifndef SOFTBENCH_UTIL_MEMORY_POLICY_H_
+#define SOFTBENCH_UTIL_MEMORY_POLICY_H_
+
+namespace softbench {
+
+// Keeps memory the process frees for its own later allocations, instead of
+// handing it back to the system and faulting fresh pages in on the next
+// image of the same size. glibc's malloc, by default, serves blocks from
+// 128 KB up (the size of a 137 x 137 image of doubles) from their own
+// mappings and trims the heap's free top past 128 KB, and every new page
+// then costs a fault and its zeroing: about 10 us a page on the VM the
+// benchmarks run on, where the tag's fit (vision/tag_model.h) spent a
+// third of its time in them (docs/benchmarks.md, "The tag fitted whole:
+// its cost"). Called once, first thing in main; a no-op where the C
+// library is not glibc.
+void KeepFreedMemory();
+
+}  // namespace softbench
+
+#endif  // SOFTBENCH_UTIL_MEMORY_POLICY_H_
