@@ -298,7 +298,7 @@ int RunRender(RenderCommandOptions options, std::ostream& out) {
   const TestPlan plan = LoadTestPlan(options.plan_path);
   // The frames' times and truth are held for the whole video: a plan that
   // runs for days is refused with its length, not left to fail allocating.
-  const double duration_s = HeadTimeline(plan).duration_s();
+  const double duration_s = RenderedDurationS(plan);
   if (!(duration_s * options.fps <= kMaxRenderFrames)) {
     throw InputError(fmt::format(
         "{}: the video would last {:.4g} s, {:.3g} frames at {} fps; render "

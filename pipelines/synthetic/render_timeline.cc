@@ -5,6 +5,7 @@
 #include <random>
 
 #include "model/equilibrium.h"
+#include "util/check.h"
 #include "util/input_error.h"
 
 namespace softbench {
@@ -17,6 +18,12 @@ void AssignTimes(TestPlan* plan) {
     test.release_s = t + plan->scene.hold_s;
     t = *test.release_s + plan->scene.rest_s;
   }
+}
+
+double RenderedDurationS(TestPlan plan) {
+  SOFTBENCH_CHECK(!plan.tests.empty()) << plan.path << ": a plan without tests";
+  AssignTimes(&plan);
+  return *plan.tests.back().release_s + plan.scene.rest_s;
 }
 
 namespace {
@@ -44,7 +51,9 @@ Eigen::VectorXd OutOfPlane(const SceneSpec& scene, int num_heads, size_t test) {
 HeadTimeline::HeadTimeline(const TestPlan& plan)
     : scene_(plan.scene),
       num_unknowns_(plan.mechanism.NumUnknowns()),
-      state_size_(num_unknowns_ + 3 * plan.mechanism.NumHeads()) {
+      state_size_(num_unknowns_ + 3 * plan.mechanism.NumHeads()),
+      duration_s_(RenderedDurationS(plan)) {
+  SOFTBENCH_CHECK(plan.HasTimes()) << plan.path << ": call AssignTimes first";
   const EquilibriumProblem problem(plan.mechanism, plan.force_model);
   EquilibriumSolver solver(problem);
   Eigen::VectorXd slip = Eigen::VectorXd::Zero(state_size_);
@@ -71,7 +80,6 @@ HeadTimeline::HeadTimeline(const TestPlan& plan)
     }
     events_.push_back({*test.release_s, slip, -1});
   }
-  duration_s_ = *plan.tests.back().release_s + plan.scene.rest_s;
 }
 
 Eigen::VectorXd HeadTimeline::DisplacementAt(double time_s) const {

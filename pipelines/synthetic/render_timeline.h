@@ -57,6 +57,10 @@ class HeadTimeline {
 // then hold and rest per test (scene section). Plans with times are kept.
 void AssignTimes(TestPlan* plan);
 
+// How long a rendered video of `plan` lasts [s]: its last release plus the
+// scene's rest time, with the times AssignTimes gives a plan that has none.
+double RenderedDurationS(TestPlan plan);
+
 }  // namespace softbench
 
 #endif  // SOFTBENCH_PIPELINES_SYNTHETIC_RENDER_TIMELINE_H_

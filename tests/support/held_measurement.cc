@@ -95,7 +95,8 @@ VideoMeasurement SettlingMeasurement(const std::vector<HeadStep>& steps,
                                      double end_s, double tau_s,
                                      double noise_mm) {
   std::mt19937 random(4);
-  std::normal_distribution<double> normal(0.0, noise_mm);
+  // Scaled by hand: noise_mm may be 0, which a distribution may not have.
+  std::normal_distribution<double> normal;
   VideoMeasurement m;
   m.fps = 30.0;
   m.frame_interval_s = 1.0 / 30.0;
@@ -117,7 +118,7 @@ VideoMeasurement SettlingMeasurement(const std::vector<HeadStep>& steps,
     sample.time_s = t;
     HeadSample head;
     head.displacement_mm =
-        position + Eigen::Vector2d(normal(random), normal(random));
+        position + noise_mm * Eigen::Vector2d(normal(random), normal(random));
     head.observation.complete = true;
     head.observation.position_mm = head.displacement_mm;
     sample.heads.push_back(head);

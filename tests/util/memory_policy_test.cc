@@ -10,10 +10,21 @@
 
 #include <cstring>
 
+// Whether AddressSanitizer's allocator serves malloc: GCC says so with
+// __SANITIZE_ADDRESS__, clang (the asan preset's compiler) with
+// __has_feature.
+#if defined(__SANITIZE_ADDRESS__)
+#define SOFTBENCH_TEST_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SOFTBENCH_TEST_UNDER_ASAN 1
+#endif
+#endif
+
 namespace softbench {
 namespace {
 
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+#if defined(__GLIBC__) && !defined(SOFTBENCH_TEST_UNDER_ASAN)
 // A 24 MB block (about a 4K frame of 16-bit luma and chroma) comes from the
 // heap, not a mapping of its own, and its pages stay with the process once
 // it is freed. glibc's defaults map it apart and unmap it on free (until a

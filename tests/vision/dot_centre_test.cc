@@ -60,10 +60,12 @@ cv::Mat Disk(const Eigen::Vector2d& centre, double radius, double noise,
                     -phone.sharpen_amount, 0.0, codes);
   }
   cv::Mat image(64, 64, CV_8UC1);
-  std::normal_distribution<double> gauss(0.0, noise);
+  // Scaled by hand: a distribution of zero spread breaks its precondition
+  // (libstdc++ asserts it), and the noise-free images draw the same numbers.
+  std::normal_distribution<double> gauss;
   for (int y = 0; y < 64; ++y) {
     for (int x = 0; x < 64; ++x) {
-      const double level = codes.at<float>(y, x) + gauss(*rng);
+      const double level = codes.at<float>(y, x) + noise * gauss(*rng);
       image.at<uint8_t>(y, x) =
           static_cast<uint8_t>(std::clamp(std::lround(level), 0L, 255L));
     }

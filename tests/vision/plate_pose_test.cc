@@ -33,12 +33,13 @@ std::array<double, 2> LiftMeanAndScatter(
     const std::vector<Eigen::Vector2d>& seen, double sigma_mm, unsigned seed,
     int trials, double weighed_sigma_mm = kStillDotSigmaMm) {
   std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, sigma_mm);
+  // Scaled by hand: sigma_mm may be 0, which a distribution may not have.
+  std::normal_distribution<double> noise;
   double sum = 0.0, sum2 = 0.0;
   for (int t = 0; t < trials; ++t) {
     std::vector<Eigen::Vector2d> noisy = seen;
     for (Eigen::Vector2d& d : noisy)
-      d += Eigen::Vector2d(noise(rng), noise(rng));
+      d += sigma_mm * Eigen::Vector2d(noise(rng), noise(rng));
     const double lift =
         FitPlatePose(rest, noisy, Bench(), weighed_sigma_mm).lift_mm;
     sum += lift;

@@ -184,6 +184,16 @@ TEST_F(NeverSilentTest, FlagsAreBlamedByNameAndLibrariesStayQuiet) {
   ExpectOneLineError("render --plan " + long_plan + " --out " + Path("v.mp4") +
                          " --truth " + Path("t.csv"),
                      {"long.yaml: the video would last 2e+09 s"});
+  // A plan without times had its length read from times not yet given: it
+  // started rendering a day's hold (2.6 million frames).
+  const std::string day_plan =
+      Write("day.yaml",
+            "mechanism: delta\npressure_unit: psi\ntests:\n  - {id: a, "
+            "pressures: [1, 1, 1]}\nscene: {lead_in_s: 1, hold_s: 86400, "
+            "rest_s: 1}\n");
+  ExpectOneLineError("render --plan " + day_plan + " --out " + Path("v.mp4") +
+                         " --truth " + Path("t.csv"),
+                     {"day.yaml: the video would last 8.64e+04 s"});
   // x264 printed its own complaint about the preset before softbench's.
   ExpectOneLineError("render --plan " + kSamples + "/delta/plan.yaml --out " +
                          Path("v.mp4") + " --truth " + Path("t.csv") +

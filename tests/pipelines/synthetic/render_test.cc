@@ -224,6 +224,24 @@ TEST(HeadTimeline, SettlesOnTheModelsEquilibriumAndComesBack) {
   EXPECT_DOUBLE_EQ(timeline.duration_s(), 6.0);
 }
 
+// A plan without times lasts the times AssignTimes gives it. render's
+// length check read the unset times of such a plan (the delta sample's) and
+// refused it as lasting 7e218 s in some runs (found under clang's ASan).
+TEST(RenderedDuration, GivesAPlanWithoutTimesTheTimesItWillBeRenderedWith) {
+  EXPECT_DOUBLE_EQ(RenderedDurationS(ParseTestPlan(kPlan, "plan.yaml")), 6.0);
+  const TestPlan timeless = ParseTestPlan(
+      "mechanism: delta\npressure_unit: psi\ntests:\n"
+      "  - {id: a, pressures: [6, 6, 0]}\n"
+      "  - {id: b, pressures: [4, 6, 1]}\n"
+      "scene: {lead_in_s: 1.5, hold_s: 2.0, rest_s: 3.0}\n",
+      "timeless.yaml");
+  ASSERT_FALSE(timeless.HasTimes());
+  EXPECT_DOUBLE_EQ(RenderedDurationS(timeless), 1.5 + 2 * (2.0 + 3.0));
+  TestPlan timed = timeless;
+  AssignTimes(&timed);
+  EXPECT_DOUBLE_EQ(HeadTimeline(timed).duration_s(), 11.5);
+}
+
 // Lifted and tilted heads (issue 27): within the scene's bounds while
 // actuated, the same for every timeline of the plan, flat again at rest.
 TEST(HeadTimeline, LiftsAndTiltsWithinTheScenesBoundsAndSettlesFlat) {

@@ -19,7 +19,8 @@ namespace {
 ValidationResult ScoreWithLifts(int tests, int heads, double lift_mm,
                                 double u_mm, int codec_jumps,
                                 std::mt19937* random) {
-  std::normal_distribution<double> noise(0.0, u_mm);
+  // Scaled by hand: u_mm may be 0, which a distribution may not have.
+  std::normal_distribution<double> noise;
   ValidationResult result;
   result.codec_jumps = codec_jumps;
   for (int t = 0; t < tests; ++t) {
@@ -27,7 +28,7 @@ ValidationResult ScoreWithLifts(int tests, int heads, double lift_mm,
     score.measured = true;
     for (int h = 0; h < heads; ++h) {
       HeadScore& head = score.heads.emplace_back();
-      head.lift_mm = lift_mm + noise(*random);
+      head.lift_mm = lift_mm + u_mm * noise(*random);
       head.u_lift_mm = u_mm;
     }
   }
