@@ -71,14 +71,14 @@ struct Footprint {
 
 // Along one of the tag's axes at a pixel: the fraction of the pixel's
 // footprint past each cell boundary, from the point's cell coordinate `q`,
-// its gradient in pixels `g`, its footprint and the blur; and, where asked,
-// the derivatives of each by (q, gradient x, gradient y, blur). Only the
+// its gradient in pixels `g`, its footprint and the blur; and the
+// derivatives of each by (q, gradient x, gradient y, blur). Only the
 // boundaries within the blur's reach are evaluated and stored: those before
 // are passed wholly, those after not at all.
 class AxisCover {
  public:
   void Fill(double q, const Eigen::Vector2d& g, const Footprint& f, double blur,
-            int n, bool derivatives) {
+            int n) {
     n_ = n;
     const double px_per_cell = 1.0 / f.norm;
     near_0_ =
@@ -98,14 +98,13 @@ class AxisCover {
     };
     Eigen::Vector2d d_w = Eigen::Vector2d::Zero();
     Eigen::Vector2d d_s_d_g = Eigen::Vector2d::Zero();
-    if (derivatives && near_1_ > near_0_) {
+    if (near_1_ > near_0_) {
       d_w = d_ratio(f.major);
       d_s_d_g = f.minor / (12.0 * f.s) * d_ratio(1 - f.major);
     }
     for (int i = near_0_; i < near_1_; ++i) {
       const Coverage c((q - i) * px_per_cell, f.w, f.s);
       beyond_[i] = c.value;
-      if (!derivatives) continue;
       const Eigen::Vector2d d_g =
           c.d_d * (-(q - i) / (norm * norm * norm)) * g + c.d_w * d_w +
           c.d_s * d_s_d_g;
@@ -177,12 +176,12 @@ struct PixelOnTag {
   }
 };
 
-// A separable filter with the same kernel both ways, edges replicated.
-cv::Mat Separable(const cv::Mat& image, const cv::Mat& kx, const cv::Mat& ky) {
-  cv::Mat out;
-  cv::sepFilter2D(image, out, CV_64F, kx, ky, cv::Point(-1, -1), 0.0,
+// A separable filter, edges replicated, into `out` (allocated only when its
+// size differs).
+void Separable(const cv::Mat& image, const cv::Mat& kx, const cv::Mat& ky,
+               cv::Mat* out) {
+  cv::sepFilter2D(image, *out, CV_64F, kx, ky, cv::Point(-1, -1), 0.0,
                   cv::BORDER_REPLICATE);
-  return out;
 }
 
 // The sharpening's Gaussian of sigma `r`, normalised, to 4 sigma each side
@@ -225,8 +224,8 @@ namespace {
 
 // The light at (v, u) of a pixel `on` whose footprint lies in one cell
 // (Footprint::InOneCell along both axes), or wholly on the table: its
-// level's, lit; and where asked its derivatives, by that level and the
-// gradient only (neither the corners nor the blur move it).
+// level's, lit; and its derivatives, by that level and the gradient only
+// (neither the corners nor the blur move it).
 void FlatPixel(const PixelOnTag& on, int n, const double levels[3],
                const TagBitmap& bitmap, double gain, double du, double dv,
                int v, int u, cv::Mat* light,
@@ -237,7 +236,6 @@ void FlatPixel(const PixelOnTag& on, int n, const double levels[3],
                          ? (bitmap.IsWhite(row, col) ? 1 : 0)
                          : 2;  // ink, paper, table
   light->at<double>(v, u) = levels[colour] * gain;
-  if (d_light == nullptr) return;
   for (int k = 0; k <= kTagBlur; ++k) (*d_light)[k].at<double>(v, u) = 0.0;
   for (int m = 0; m < 3; ++m) {
     (*d_light)[kTagInk + m].at<double>(v, u) = m == colour ? gain : 0.0;
@@ -310,34 +308,29 @@ void TagImageCost::Start(double beyond_cells, double* params) {
 }
 
 // Each pixel's footprint, blurred by the lens, split into the fractions on
-// ink, paper and table, lit by the levels and the gradient; and where
-// asked, the derivatives of that light by the corners, the blur, the levels
-// and the gradient.
-TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
-                                          const cv::Rect& region) const {
+// ink, paper and table, lit by the levels and the gradient; and the
+// derivatives of that light by the corners, the blur, the levels and the
+// gradient.
+void TagImageCost::DrawLight(const double* p, const cv::Rect& region,
+                             Light* out) const {
   const Eigen::Matrix3d cell_from_pixel =
       TagPixelFromCell(bitmap_, p).inverse();
   // d cell_from_pixel / d corner, by central differences of the 8x8 solve
   // (smooth in the corners; 1e-4 px leaves 1e-10 of truncation).
   std::array<Eigen::Matrix3d, 8> d_cell_from_pixel;
-  if (derivatives) {
-    for (int k = 0; k < 8; ++k) {
-      std::array<double, 8> corners;
-      std::copy(p, p + 8, corners.begin());
-      const double step = 1e-4;
-      corners[k] = p[k] + step;
-      const Eigen::Matrix3d plus = TagPixelFromCell(bitmap_, corners.data());
-      corners[k] = p[k] - step;
-      const Eigen::Matrix3d minus = TagPixelFromCell(bitmap_, corners.data());
-      d_cell_from_pixel[k] =
-          -cell_from_pixel * ((plus - minus) / (2 * step)) * cell_from_pixel;
-    }
+  for (int k = 0; k < 8; ++k) {
+    std::array<double, 8> corners;
+    std::copy(p, p + 8, corners.begin());
+    const double step = 1e-4;
+    corners[k] = p[k] + step;
+    const Eigen::Matrix3d plus = TagPixelFromCell(bitmap_, corners.data());
+    corners[k] = p[k] - step;
+    const Eigen::Matrix3d minus = TagPixelFromCell(bitmap_, corners.data());
+    d_cell_from_pixel[k] =
+        -cell_from_pixel * ((plus - minus) / (2 * step)) * cell_from_pixel;
   }
-  Light out;
-  out.light.create(region.size(), CV_64F);
-  if (derivatives) {
-    for (cv::Mat& d : out.d_light) d.create(region.size(), CV_64F);
-  }
+  out->light.create(region.size(), CV_64F);
+  for (cv::Mat& d : out->d_light) d.create(region.size(), CV_64F);
   const int n = bitmap_.total_width;
   const double cx = crop_.x + 0.5 * crop_.width;
   const double cy = crop_.y + 0.5 * crop_.height;
@@ -356,22 +349,20 @@ TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
         // (BM_FitTagModel 46.6 -> 37.5 ms), to the same numbers.
         const Footprint foot_x(on.gx, p[kTagBlur]), foot_y(on.gy, p[kTagBlur]);
         if (foot_x.InOneCell(on.x) && foot_y.InOneCell(on.y)) {
-          FlatPixel(on, n, levels, bitmap_, gain, du, dv, v, u, &out.light,
-                    derivatives ? &out.d_light : nullptr);
+          FlatPixel(on, n, levels, bitmap_, gain, du, dv, v, u, &out->light,
+                    &out->d_light);
           continue;
         }
-        along_x.Fill(on.x, on.gx, foot_x, p[kTagBlur], n, derivatives);
-        along_y.Fill(on.y, on.gy, foot_y, p[kTagBlur], n, derivatives);
+        along_x.Fill(on.x, on.gx, foot_x, p[kTagBlur], n);
+        along_y.Fill(on.y, on.gy, foot_y, p[kTagBlur], n);
         const double in_x = along_x.Beyond(0) - along_x.Beyond(n);
         const double in_y = along_y.Beyond(0) - along_y.Beyond(n);
         double fractions[3] = {0.0, 0.0, 1.0 - in_x * in_y};
         // d(fractions · levels) / d(x axis's q, g, blur) and the y axis's.
-        Eigen::Vector4d d_x = Eigen::Vector4d::Zero();
-        Eigen::Vector4d d_y = Eigen::Vector4d::Zero();
-        if (derivatives) {
-          d_x = -levels[2] * in_y * (along_x.DBeyond(0) - along_x.DBeyond(n));
-          d_y = -levels[2] * in_x * (along_y.DBeyond(0) - along_y.DBeyond(n));
-        }
+        Eigen::Vector4d d_x =
+            -levels[2] * in_y * (along_x.DBeyond(0) - along_x.DBeyond(n));
+        Eigen::Vector4d d_y =
+            -levels[2] * in_x * (along_y.DBeyond(0) - along_y.DBeyond(n));
         const auto [row_0, row_1] = along_y.Cells();
         const auto [col_0, col_1] = along_x.Cells();
         for (int row = row_0; row < row_1; ++row) {
@@ -383,7 +374,6 @@ TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
             if (cover_x == 0.0) continue;
             const int colour = bitmap_.IsWhite(row, col) ? 1 : 0;
             fractions[colour] += cover_x * cover_y;
-            if (!derivatives) continue;
             d_x += levels[colour] * cover_y *
                    (along_x.DBeyond(col) - along_x.DBeyond(col + 1));
             d_y += levels[colour] * cover_x *
@@ -392,8 +382,7 @@ TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
         }
         const double lit = fractions[0] * levels[0] + fractions[1] * levels[1] +
                            fractions[2] * levels[2];
-        out.light.at<double>(v, u) = lit * gain;
-        if (!derivatives) continue;
+        out->light.at<double>(v, u) = lit * gain;
         const bool moves = along_x.Moves() || along_y.Moves();
         const Eigen::Matrix3d d_by_matrix =
             moves ? Eigen::Matrix3d(gain * on.Derivative(cell_from_pixel,
@@ -401,19 +390,18 @@ TagImageCost::Light TagImageCost::LightOf(const double* p, bool derivatives,
                                                          d_y.head<3>()))
                   : Eigen::Matrix3d::Zero();
         for (int k = 0; k < 8; ++k) {
-          out.d_light[k].at<double>(v, u) =
+          out->d_light[k].at<double>(v, u) =
               d_by_matrix.cwiseProduct(d_cell_from_pixel[k]).sum();
         }
-        out.d_light[kTagBlur].at<double>(v, u) = gain * (d_x[3] + d_y[3]);
-        out.d_light[kTagInk].at<double>(v, u) = gain * fractions[0];
-        out.d_light[kTagPaper].at<double>(v, u) = gain * fractions[1];
-        out.d_light[kTagTable].at<double>(v, u) = gain * fractions[2];
-        out.d_light[kTagGainU].at<double>(v, u) = lit * du;
-        out.d_light[kTagGainV].at<double>(v, u) = lit * dv;
+        out->d_light[kTagBlur].at<double>(v, u) = gain * (d_x[3] + d_y[3]);
+        out->d_light[kTagInk].at<double>(v, u) = gain * fractions[0];
+        out->d_light[kTagPaper].at<double>(v, u) = gain * fractions[1];
+        out->d_light[kTagTable].at<double>(v, u) = gain * fractions[2];
+        out->d_light[kTagGainU].at<double>(v, u) = lit * du;
+        out->d_light[kTagGainV].at<double>(v, u) = lit * dv;
       }
     }
   });
-  return out;
 }
 
 cv::Rect TagImageCost::Region(double sharpen_radius_px,
@@ -432,100 +420,139 @@ cv::Rect TagImageCost::Region(double sharpen_radius_px,
   return region;
 }
 
-bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
-                            double** jacobians) const {
-  const double* p = parameters[0];
-  const bool derivatives = jacobians != nullptr && jacobians[0] != nullptr;
-  std::vector<int> at;
-  const cv::Rect region = Region(p[kTagSharpenRadius], &at);
-  const Light light = LightOf(p, derivatives, region);
+// The model at one point: the light with its derivatives, the codes with
+// their slopes, and the codes sharpened. Its images are drawn over again in
+// place at the next point (cv::Mat::create keeps an image of the same size).
+struct TagImageCost::Drawn {
+  std::array<double, kTagNumParams> params;
+  cv::Rect region;
+  std::vector<int> at;  // each fitted pixel's index in the region
+  Light light;
+  cv::Mat filtered, codes, slope, by_strength, soft, sharpened;
+};
+
+TagImageCost::~TagImageCost() = default;
+
+const TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
+  if (drawn_ && std::equal(p, p + kTagNumParams, drawn_->params.begin())) {
+    return *drawn_;
+  }
+  if (!drawn_) drawn_ = std::make_unique<Drawn>();
+  Drawn& d = *drawn_;
+  std::copy(p, p + kTagNumParams, d.params.begin());
+  d.region = Region(p[kTagSharpenRadius], &d.at);
+  // With the derivatives even for the residuals alone: most points whose
+  // residuals are evaluated are Levenberg-Marquardt's accepted steps, whose
+  // Jacobian is asked for next and then costs only its columns' filters.
+  DrawLight(p, d.region, &d.light);
   // The pixel filter, in light: taps (w, 1 - 2w, w) both ways.
   const double w = p[kTagPixelFilter];
   const cv::Mat taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
-  const cv::Mat filtered = Separable(light.light, taps, taps);
+  Separable(d.light.light, taps, taps, &d.filtered);
   // The video's curve (clipped at black and white), then the tone curve:
   // the codes, with their slope by the filtered light and by the curve's
   // strength.
   const double k = p[kTagToneCurve];
-  cv::Mat codes(region.size(), CV_64F), slope, by_strength;
-  if (derivatives) {
-    slope.create(region.size(), CV_64F);
-    by_strength.create(region.size(), CV_64F);
-  }
+  d.codes.create(d.region.size(), CV_64F);
+  d.slope.create(d.region.size(), CV_64F);
+  d.by_strength.create(d.region.size(), CV_64F);
   // Pointwise, through pow(): on all cores.
-  cv::parallel_for_(cv::Range(0, codes.rows), [&](const cv::Range& rows) {
-    for (int i = rows.start * codes.cols; i < rows.end * codes.cols; ++i) {
-      const double m = filtered.ptr<double>()[i];
+  cv::parallel_for_(cv::Range(0, d.codes.rows), [&](const cv::Range& rows) {
+    for (int i = rows.start * d.codes.cols; i < rows.end * d.codes.cols; ++i) {
+      const double m = d.filtered.ptr<double>()[i];
       const double c = std::clamp(
           FromLinear(encoding_.transfer, std::clamp(m, 0.0, 1.0)), 0.0, 1.0);
-      codes.ptr<double>()[i] = (1.0 - k) * c + k * c * c * (3.0 - 2.0 * c);
-      if (!derivatives) continue;
-      slope.ptr<double>()[i] = ((1.0 - k) + 6.0 * k * c * (1.0 - c)) *
-                               FromLinearSlope(encoding_.transfer, m);
-      by_strength.ptr<double>()[i] = c * c * (3.0 - 2.0 * c) - c;
+      d.codes.ptr<double>()[i] = (1.0 - k) * c + k * c * c * (3.0 - 2.0 * c);
+      d.slope.ptr<double>()[i] = ((1.0 - k) + 6.0 * k * c * (1.0 - c)) *
+                                 FromLinearSlope(encoding_.transfer, m);
+      d.by_strength.ptr<double>()[i] = c * c * (3.0 - 2.0 * c) - c;
     }
   });
   // Unsharp-mask sharpening on the codes; the camera's codes clip at black
   // and white (its R'G'B' do, before they become luma), which hides the
   // halos of ink and paper.
   const double a = p[kTagSharpenAmount];
-  const std::pair<cv::Mat, cv::Mat> kernels =
-      GaussianAndDerivative(p[kTagSharpenRadius]);
-  const cv::Mat& gaussian = kernels.first;
-  const cv::Mat& d_gaussian = kernels.second;
-  const cv::Mat soft = Separable(codes, gaussian, gaussian);
-  const cv::Mat sharpened = codes + a * (codes - soft);
+  const cv::Mat gaussian = GaussianAndDerivative(p[kTagSharpenRadius]).first;
+  Separable(d.codes, gaussian, gaussian, &d.soft);
+  cv::addWeighted(d.codes, 1.0 + a, d.soft, -a, 0.0, d.sharpened);
+  return d;
+}
+
+bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
+                            double** jacobians) const {
+  const double* p = parameters[0];
+  const Drawn& drawn = DrawnAt(p);
+  const std::vector<int>& at = drawn.at;
   const double span = white_level_ - black_level_;
-  const double* model = sharpened.ptr<double>();
+  const double* model = drawn.sharpened.ptr<double>();
   const double* data = data_.ptr<double>();
   for (size_t i = 0; i < fitted_.size(); ++i) {
     residuals[i] = black_level_ + span * std::clamp(model[at[i]], 0.0, 1.0) -
                    data[fitted_[i]];
   }
-  if (!derivatives) return true;
-  // d sharpened from d codes: the unsharp mask is linear.
-  const auto sharpen = [&](const cv::Mat& d_codes) -> cv::Mat {
-    return (1.0 + a) * d_codes - a * Separable(d_codes, gaussian, gaussian);
-  };
+  if (jacobians == nullptr || jacobians[0] == nullptr) return true;
+  const Light& light = drawn.light;
+  const cv::Mat& codes = drawn.codes;
+  const cv::Mat& slope = drawn.slope;
+  const double a = p[kTagSharpenAmount];
+  const double w = p[kTagPixelFilter];
+  const cv::Mat taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
+  const std::pair<cv::Mat, cv::Mat> kernels =
+      GaussianAndDerivative(p[kTagSharpenRadius]);
+  const cv::Mat& gaussian = kernels.first;
+  const cv::Mat& d_gaussian = kernels.second;
+  // d residual / d parameter, a column at a time: each column's filters run
+  // in scratch images that a core reuses for all its columns, and only the
+  // fitted pixels are kept, a column's together. Before, every column and
+  // each of its filters' outputs was an image of its own: some 10 MB of
+  // fresh pages on the fit's first Jacobian, which inside `validate` costs
+  // more than the Jacobian itself (docs/benchmarks.md, "The tag fitted
+  // whole: its cost").
+  const int fitted = static_cast<int>(fitted_.size());
+  Eigen::Matrix<double, Eigen::Dynamic, kTagNumParams> columns(fitted,
+                                                               kTagNumParams);
   const cv::Mat d_taps = (cv::Mat_<double>(3, 1) << 1.0, -2.0, 1.0);
-  // d sharpened / d parameter j.
-  const auto column = [&](int j) -> cv::Mat {
-    if (j < kLightParams) {
-      return sharpen(slope.mul(Separable(light.d_light[j], taps, taps)));
-    }
-    switch (j) {
-      case kTagPixelFilter:
-        return sharpen(slope.mul(Separable(light.light, d_taps, taps) +
-                                 Separable(light.light, taps, d_taps)));
-      case kTagToneCurve:
-        return sharpen(by_strength);
-      case kTagSharpenAmount:
-        return codes - soft;
-      default:  // kTagSharpenRadius
-        return -a * (Separable(codes, d_gaussian, gaussian) +
-                     Separable(codes, gaussian, d_gaussian));
+  const auto scratch_columns = [&](const cv::Range& range) {
+    cv::Mat one, two, out;  // reused by this core's columns
+    // d sharpened from d codes, into `out`: the unsharp mask is linear.
+    const auto sharpen = [&](const cv::Mat& d_codes) {
+      Separable(d_codes, gaussian, gaussian, &one);
+      cv::addWeighted(d_codes, 1.0 + a, one, -a, 0.0, out);
+    };
+    for (int j = range.start; j < range.end; ++j) {
+      if (j < kLightParams) {
+        Separable(light.d_light[j], taps, taps, &one);
+        cv::multiply(slope, one, two);
+        sharpen(two);
+      } else if (j == kTagPixelFilter) {
+        Separable(light.light, d_taps, taps, &one);
+        Separable(light.light, taps, d_taps, &two);
+        cv::add(one, two, out);
+        cv::multiply(slope, out, two);
+        sharpen(two);
+      } else if (j == kTagToneCurve) {
+        sharpen(drawn.by_strength);
+      } else if (j == kTagSharpenAmount) {
+        cv::subtract(codes, drawn.soft, out);
+      } else {  // kTagSharpenRadius
+        Separable(codes, d_gaussian, gaussian, &one);
+        Separable(codes, gaussian, d_gaussian, &two);
+        cv::addWeighted(one, -a, two, -a, 0.0, out);
+      }
+      // Zero where the codes clip.
+      const double* d = out.ptr<double>();
+      for (int i = 0; i < fitted; ++i) {
+        const double m = model[at[i]];
+        columns(i, j) = m > 0.0 && m < 1.0 ? span * d[at[i]] : 0.0;
+      }
     }
   };
-  // The columns are independent: on all cores.
-  std::array<cv::Mat, kTagNumParams> columns;
-  cv::parallel_for_(cv::Range(0, kTagNumParams), [&](const cv::Range& range) {
-    for (int j = range.start; j < range.end; ++j) columns[j] = column(j);
-  });
-  // d residual / d parameter from d sharpened / d parameter, zero where the
-  // codes clip; a row at a time, so that no two cores write the same row.
-  double* jacobian = jacobians[0];
-  cv::parallel_for_(cv::Range(0, static_cast<int>(fitted_.size())),
-                    [&](const cv::Range& range) {
-                      for (int i = range.start; i < range.end; ++i) {
-                        const double m = model[at[i]];
-                        const bool clipped = !(m > 0.0 && m < 1.0);
-                        for (int j = 0; j < kTagNumParams; ++j) {
-                          jacobian[i * kTagNumParams + j] =
-                              clipped ? 0.0
-                                      : span * columns[j].ptr<double>()[at[i]];
-                        }
-                      }
-                    });
+  // The columns are independent: a block of them on each core.
+  cv::parallel_for_(cv::Range(0, kTagNumParams), scratch_columns,
+                    cv::getNumThreads());
+  Eigen::Map<
+      Eigen::Matrix<double, Eigen::Dynamic, kTagNumParams, Eigen::RowMajor>>(
+      jacobians[0], fitted, kTagNumParams) = columns;
   return true;
 }
 

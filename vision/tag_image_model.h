@@ -4,6 +4,7 @@
 #include <ceres/cost_function.h>
 
 #include <Eigen/Core>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -48,12 +49,19 @@ Eigen::Matrix3d TagPixelFromCell(const TagBitmap& bitmap,
 // luma's, in 8-bit levels. Its Jacobian is analytic: each pixel's cover of
 // ink, paper and table is integrated in closed form, and so are its
 // derivatives; the filters after it are linear, the curves pointwise.
+//
+// The model drawn at the last point evaluated is kept, with the derivatives
+// of its light, so that the Jacobian at a point whose residuals were just
+// evaluated (Levenberg-Marquardt's accepted step) does not draw it again,
+// and so that its images are drawn over in place: one evaluation at a time
+// (Ceres on one thread).
 class TagImageCost : public ceres::CostFunction {
  public:
   // `luma`: CV_8UC1 or CV_16UC1 (vision/luma.h); `crop` lies inside it.
   // `bitmap` must outlive the cost.
   TagImageCost(const cv::Mat& luma, const TagBitmap& bitmap,
                const cv::Rect& crop, const LumaEncoding& encoding);
+  ~TagImageCost() override;
 
   // Chooses the fitted pixels, those whose point on the tag (through the
   // corners in `params`) lies within `beyond_cells` of the quiet zone's
@@ -67,13 +75,18 @@ class TagImageCost : public ceres::CostFunction {
 
  private:
   struct Light;
+  struct Drawn;
   // The part of the crop the model is drawn on: where the filters of the
   // fitted pixels reach, at this sharpening radius; and each fitted pixel's
   // index in it.
   cv::Rect Region(double sharpen_radius_px, std::vector<int>* at) const;
-  // The light over `region` (in the crop).
-  Light LightOf(const double* params, bool derivatives,
-                const cv::Rect& region) const;
+  // The light over `region` (in the crop), with its derivatives, into
+  // `light`.
+  void DrawLight(const double* params, const cv::Rect& region,
+                 Light* light) const;
+  // The model drawn at `params`: the one kept when the parameters are the
+  // same.
+  const Drawn& DrawnAt(const double* params) const;
 
   const TagBitmap& bitmap_;
   cv::Rect crop_;
@@ -82,6 +95,7 @@ class TagImageCost : public ceres::CostFunction {
   std::vector<int> fitted_;  // indices in the crop
   cv::Rect fitted_box_;      // their bounding box in the crop
   double black_level_ = 0, white_level_ = 255;
+  mutable std::unique_ptr<Drawn> drawn_;  // the last point evaluated
 };
 
 }  // namespace softbench
