@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
+#include <tuple>
 
 #include "util/statistics.h"
 #include "vision/luma.h"
@@ -427,6 +428,9 @@ struct TagImageCost::Drawn {
   std::array<double, kTagNumParams> params;
   cv::Rect region;
   std::vector<int> at;  // each fitted pixel's index in the region
+  // The pixel filter's taps, the sharpening's Gaussian and its derivative by
+  // the radius.
+  cv::Mat taps, gaussian, d_gaussian;
   Light light;
   cv::Mat filtered, codes, slope, by_strength, soft, sharpened;
 };
@@ -447,8 +451,8 @@ const TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
   DrawLight(p, d.region, &d.light);
   // The pixel filter, in light: taps (w, 1 - 2w, w) both ways.
   const double w = p[kTagPixelFilter];
-  const cv::Mat taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
-  Separable(d.light.light, taps, taps, &d.filtered);
+  d.taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
+  Separable(d.light.light, d.taps, d.taps, &d.filtered);
   // The video's curve (clipped at black and white), then the tone curve:
   // the codes, with their slope by the filtered light and by the curve's
   // strength.
@@ -472,8 +476,9 @@ const TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
   // and white (its R'G'B' do, before they become luma), which hides the
   // halos of ink and paper.
   const double a = p[kTagSharpenAmount];
-  const cv::Mat gaussian = GaussianAndDerivative(p[kTagSharpenRadius]).first;
-  Separable(d.codes, gaussian, gaussian, &d.soft);
+  std::tie(d.gaussian, d.d_gaussian) =
+      GaussianAndDerivative(p[kTagSharpenRadius]);
+  Separable(d.codes, d.gaussian, d.gaussian, &d.soft);
   cv::addWeighted(d.codes, 1.0 + a, d.soft, -a, 0.0, d.sharpened);
   return d;
 }
@@ -494,13 +499,10 @@ bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
   const Light& light = drawn.light;
   const cv::Mat& codes = drawn.codes;
   const cv::Mat& slope = drawn.slope;
+  const cv::Mat& taps = drawn.taps;
+  const cv::Mat& gaussian = drawn.gaussian;
+  const cv::Mat& d_gaussian = drawn.d_gaussian;
   const double a = p[kTagSharpenAmount];
-  const double w = p[kTagPixelFilter];
-  const cv::Mat taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
-  const std::pair<cv::Mat, cv::Mat> kernels =
-      GaussianAndDerivative(p[kTagSharpenRadius]);
-  const cv::Mat& gaussian = kernels.first;
-  const cv::Mat& d_gaussian = kernels.second;
   // d residual / d parameter, a column at a time: each column's filters run
   // in scratch images that a core reuses for all its columns, and only the
   // fitted pixels are kept, a column's together. Before, every column and
