@@ -433,11 +433,13 @@ struct TagImageCost::Drawn {
   cv::Mat taps, gaussian, d_gaussian;
   Light light;
   cv::Mat filtered, codes, slope, by_strength, soft, sharpened;
+  // NormalEquationsAt's residuals and Jacobian, kept for the next point.
+  std::vector<double> residuals, jacobian;
 };
 
 TagImageCost::~TagImageCost() = default;
 
-const TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
+TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
   if (drawn_ && std::equal(p, p + kTagNumParams, drawn_->params.begin())) {
     return *drawn_;
   }
@@ -483,10 +485,7 @@ const TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
   return d;
 }
 
-bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
-                            double** jacobians) const {
-  const double* p = parameters[0];
-  const Drawn& drawn = DrawnAt(p);
+void TagImageCost::Residuals(const Drawn& drawn, double* residuals) const {
   const std::vector<int>& at = drawn.at;
   const double span = white_level_ - black_level_;
   const double* model = drawn.sharpened.ptr<double>();
@@ -495,7 +494,67 @@ bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
     residuals[i] = black_level_ + span * std::clamp(model[at[i]], 0.0, 1.0) -
                    data[fitted_[i]];
   }
-  if (jacobians == nullptr || jacobians[0] == nullptr) return true;
+}
+
+bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
+                            double** jacobians) const {
+  const Drawn& drawn = DrawnAt(parameters[0]);
+  Residuals(drawn, residuals);
+  if (jacobians != nullptr && jacobians[0] != nullptr) {
+    JacobianRows(drawn, jacobians[0]);
+  }
+  return true;
+}
+
+double TagImageCost::SquaredNormAt(const double* params) const {
+  Drawn& drawn = DrawnAt(params);
+  drawn.residuals.resize(fitted_.size());
+  Residuals(drawn, drawn.residuals.data());
+  const Eigen::Map<const Eigen::VectorXd> r(drawn.residuals.data(),
+                                            drawn.residuals.size());
+  return r.squaredNorm();
+}
+
+void TagImageCost::NormalEquationsAt(const double* params,
+                                     NormalEquations* out) const {
+  Drawn& drawn = DrawnAt(params);
+  const int n = static_cast<int>(fitted_.size());
+  drawn.residuals.resize(n);
+  drawn.jacobian.resize(static_cast<size_t>(n) * kTagNumParams);
+  Residuals(drawn, drawn.residuals.data());
+  JacobianRows(drawn, drawn.jacobian.data());
+  // Sums over blocks of a fixed number of pixels, on all cores, added in
+  // order: the same numbers on any number of cores.
+  constexpr int kBlock = 2048;
+  const int blocks = (n + kBlock - 1) / kBlock;
+  std::vector<NormalEquations> partial(blocks);
+  cv::parallel_for_(cv::Range(0, blocks), [&](const cv::Range& range) {
+    for (int b = range.start; b < range.end; ++b) {
+      const int i_0 = b * kBlock, rows = std::min(n, i_0 + kBlock) - i_0;
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic,
+                                           kTagNumParams, Eigen::RowMajor>>
+          j(drawn.jacobian.data() + static_cast<ptrdiff_t>(i_0) * kTagNumParams,
+            rows, kTagNumParams);
+      const Eigen::Map<const Eigen::VectorXd> r(drawn.residuals.data() + i_0,
+                                                rows);
+      partial[b].squared_norm = r.squaredNorm();
+      partial[b].jtj.noalias() = j.transpose() * j;
+      partial[b].jtr.noalias() = j.transpose() * r;
+    }
+  });
+  *out = NormalEquations();
+  for (const NormalEquations& p : partial) {
+    out->squared_norm += p.squared_norm;
+    out->jtj += p.jtj;
+    out->jtr += p.jtr;
+  }
+}
+
+void TagImageCost::JacobianRows(const Drawn& drawn, double* jacobian) const {
+  const double* p = drawn.params.data();
+  const std::vector<int>& at = drawn.at;
+  const double span = white_level_ - black_level_;
+  const double* model = drawn.sharpened.ptr<double>();
   const Light& light = drawn.light;
   const cv::Mat& codes = drawn.codes;
   const cv::Mat& slope = drawn.slope;
@@ -503,58 +562,127 @@ bool TagImageCost::Evaluate(double const* const* parameters, double* residuals,
   const cv::Mat& gaussian = drawn.gaussian;
   const cv::Mat& d_gaussian = drawn.d_gaussian;
   const double a = p[kTagSharpenAmount];
-  // d residual / d parameter, a column at a time: each column's filters run
-  // in scratch images that a core reuses for all its columns, and only the
-  // fitted pixels are kept, a column's together. Before, every column and
-  // each of its filters' outputs was an image of its own: some 10 MB of
-  // fresh pages on the fit's first Jacobian, which inside `validate` costs
-  // more than the Jacobian itself (docs/benchmarks.md, "The tag fitted
-  // whole: its cost").
-  const int fitted = static_cast<int>(fitted_.size());
-  Eigen::Matrix<double, Eigen::Dynamic, kTagNumParams> columns(fitted,
-                                                               kTagNumParams);
   const cv::Mat d_taps = (cv::Mat_<double>(3, 1) << 1.0, -2.0, 1.0);
-  const auto scratch_columns = [&](const cv::Range& range) {
-    cv::Mat one, two, out;  // reused by this core's columns
-    // d sharpened from d codes, into `out`: the unsharp mask is linear.
-    const auto sharpen = [&](const cv::Mat& d_codes) {
-      Separable(d_codes, gaussian, gaussian, &one);
-      cv::addWeighted(d_codes, 1.0 + a, one, -a, 0.0, out);
-    };
-    for (int j = range.start; j < range.end; ++j) {
-      if (j < kLightParams) {
-        Separable(light.d_light[j], taps, taps, &one);
-        cv::multiply(slope, one, two);
-        sharpen(two);
-      } else if (j == kTagPixelFilter) {
-        Separable(light.light, d_taps, taps, &one);
-        Separable(light.light, taps, d_taps, &two);
-        cv::add(one, two, out);
-        cv::multiply(slope, out, two);
-        sharpen(two);
-      } else if (j == kTagToneCurve) {
-        sharpen(drawn.by_strength);
-      } else if (j == kTagSharpenAmount) {
-        cv::subtract(codes, drawn.soft, out);
-      } else {  // kTagSharpenRadius
-        Separable(codes, d_gaussian, gaussian, &one);
-        Separable(codes, gaussian, d_gaussian, &two);
-        cv::addWeighted(one, -a, two, -a, 0.0, out);
-      }
-      // Zero where the codes clip.
-      const double* d = out.ptr<double>();
-      for (int i = 0; i < fitted; ++i) {
-        const double m = model[at[i]];
-        columns(i, j) = m > 0.0 && m < 1.0 ? span * d[at[i]] : 0.0;
+  const int rows = drawn.region.height, cols = drawn.region.width;
+  const int halo = gaussian.rows / 2;  // the sharpening's reach
+  // d residual / d parameter, by bands of the region's rows: each core
+  // filters every column over its band (and the sharpening's reach beyond
+  // it) in scratch images it reuses from column to column, and writes its
+  // fitted pixels' rows of the Jacobian straight into Ceres's array. Filters
+  // of an image's rows (cv::Mat ROIs) read the rows around them, so each
+  // band's values are the whole image's. Before, the columns were split
+  // between cores and gathered in a column-major copy that was then
+  // transposed into Ceres's array: 2 MB of fresh pages on the first
+  // Jacobian inside `validate` (docs/benchmarks.md, "The tag fitted whole:
+  // its cost").
+  const int bands = std::max(1, cv::getNumThreads());
+  const auto band_rows = [&](const cv::Range& range) {
+    // Reused by this core's columns: two over the wide band, two over the
+    // band.
+    cv::Mat wide_a, wide_b, one, out;
+    for (int b = range.start; b < range.end; ++b) {
+      const cv::Range band(rows * b / bands, rows * (b + 1) / bands);
+      const cv::Range wide(std::max(0, band.start - halo),
+                           std::min(rows, band.end + halo));
+      const cv::Range in_wide(band.start - wide.start, band.end - wide.start);
+      // The fitted pixels in the band: `at` rises with the row.
+      const int i_0 = static_cast<int>(
+          std::partition_point(at.begin(), at.end(),
+                               [&](int k) { return k < band.start * cols; }) -
+          at.begin());
+      const int i_1 = static_cast<int>(
+          std::partition_point(at.begin(), at.end(),
+                               [&](int k) { return k < band.end * cols; }) -
+          at.begin());
+      // d sharpened over the band from d codes over the wide band, into
+      // `out`: the unsharp mask is linear.
+      const auto sharpen = [&](const cv::Mat& d_codes_wide) {
+        const cv::Mat d_codes = d_codes_wide.rowRange(in_wide);
+        Separable(d_codes, gaussian, gaussian, &one);
+        cv::addWeighted(d_codes, 1.0 + a, one, -a, 0.0, out);
+      };
+      for (int j = 0; j < kTagNumParams; ++j) {
+        if (j < kLightParams) {
+          Separable(light.d_light[j].rowRange(wide), taps, taps, &wide_a);
+          cv::multiply(slope.rowRange(wide), wide_a, wide_b);
+          sharpen(wide_b);
+        } else if (j == kTagPixelFilter) {
+          const cv::Mat lit = light.light.rowRange(wide);
+          Separable(lit, d_taps, taps, &wide_a);
+          Separable(lit, taps, d_taps, &wide_b);
+          cv::add(wide_a, wide_b, wide_a);
+          cv::multiply(slope.rowRange(wide), wide_a, wide_b);
+          sharpen(wide_b);
+        } else if (j == kTagToneCurve) {
+          sharpen(drawn.by_strength.rowRange(wide));
+        } else if (j == kTagSharpenAmount) {
+          cv::subtract(codes.rowRange(band), drawn.soft.rowRange(band), out);
+        } else {  // kTagSharpenRadius
+          const cv::Mat c = codes.rowRange(band);
+          Separable(c, d_gaussian, gaussian, &one);
+          Separable(c, gaussian, d_gaussian, &out);
+          cv::addWeighted(one, -a, out, -a, 0.0, out);
+        }
+        // Zero where the codes clip.
+        const double* d = out.ptr<double>();
+        const int first = band.start * cols;
+        double* row =
+            jacobian + static_cast<ptrdiff_t>(i_0) * kTagNumParams + j;
+        for (int i = i_0; i < i_1; ++i, row += kTagNumParams) {
+          const double m = model[at[i]];
+          *row = m > 0.0 && m < 1.0 ? span * d[at[i] - first] : 0.0;
+        }
       }
     }
   };
-  // The columns are independent: a block of them on each core.
-  cv::parallel_for_(cv::Range(0, kTagNumParams), scratch_columns,
-                    cv::getNumThreads());
+  cv::parallel_for_(cv::Range(0, bands), band_rows, bands);
+}
+
+void SquareRootForm(const NormalEquations& equations, double* residuals,
+                    double* jacobian) {
+  using Matrix = NormalEquations::Matrix;
+  using Vector = NormalEquations::Vector;
+  // J^T J = P^T L D L^T P (pivoted, for a semidefinite J^T J: a table not in
+  // view leaves its level's column zero). R = D^(1/2) L^T P; R^T z = J^T r
+  // gives z = D^(-1/2) L^-1 P J^T r.
+  const Eigen::LDLT<Matrix> ldlt(equations.jtj);
+  Matrix permutation = Matrix::Identity();
+  permutation = ldlt.transpositionsP() * permutation;
+  const Matrix upper = ldlt.matrixU();
+  const Vector pivots = ldlt.vectorD();
+  const Vector y = ldlt.matrixL().solve(permutation * equations.jtr);
+  // Pivots this far under the largest are rounding of a zero one.
+  const double floor = 1e-14 * pivots.cwiseAbs().maxCoeff();
   Eigen::Map<
-      Eigen::Matrix<double, Eigen::Dynamic, kTagNumParams, Eigen::RowMajor>>(
-      jacobians[0], fitted, kTagNumParams) = columns;
+      Eigen::Matrix<double, kTagNumParams + 1, kTagNumParams, Eigen::RowMajor>>
+      r(jacobian);
+  r.setZero();
+  double explained = 0.0;
+  for (int k = 0; k < kTagNumParams; ++k) {
+    residuals[k] = 0.0;
+    if (!(pivots[k] > floor)) continue;
+    const double root = std::sqrt(pivots[k]);
+    r.row(k) = root * (upper.row(k) * permutation);
+    residuals[k] = y[k] / root;
+    explained += residuals[k] * residuals[k];
+  }
+  residuals[kTagNumParams] =
+      std::sqrt(std::max(0.0, equations.squared_norm - explained));
+}
+
+TagImageNormalCost::TagImageNormalCost(std::unique_ptr<TagImageCost> pixels)
+    : pixels_(std::move(pixels)) {}
+
+bool TagImageNormalCost::Evaluate(double const* const* parameters,
+                                  double* residuals, double** jacobians) const {
+  if (jacobians == nullptr || jacobians[0] == nullptr) {
+    std::fill(residuals, residuals + kTagNumParams + 1, 0.0);
+    residuals[0] = std::sqrt(pixels_->SquaredNormAt(parameters[0]));
+    return true;
+  }
+  NormalEquations equations;
+  pixels_->NormalEquationsAt(parameters[0], &equations);
+  SquareRootForm(equations, residuals, jacobians[0]);
   return true;
 }
 

@@ -2,6 +2,7 @@
 #define SOFTBENCH_VISION_TAG_IMAGE_MODEL_H_
 
 #include <ceres/cost_function.h>
+#include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
 #include <memory>
@@ -44,6 +45,27 @@ constexpr double kTagMaxSharpenRadiusPx = 3.0;
 Eigen::Matrix3d TagPixelFromCell(const TagBitmap& bitmap,
                                  const double* corners);
 
+// What Levenberg-Marquardt needs of a least-squares problem at a point: the
+// residuals' squared norm r·r, J^T J and J^T r.
+struct NormalEquations {
+  using Matrix = Eigen::Matrix<double, kTagNumParams, kTagNumParams>;
+  using Vector = Eigen::Matrix<double, kTagNumParams, 1>;
+  double squared_norm = 0.0;
+  Matrix jtj = Matrix::Zero();
+  Vector jtr = Vector::Zero();
+};
+
+// The same problem as kTagNumParams + 1 residuals: a square Jacobian R with
+// R^T R = J^T J (from the pivoted LDL^T of J^T J, rows with no pivot left
+// zero) and residuals z with R^T z = J^T r, then a last residual that makes
+// up the norm, sqrt(r·r - z·z), whose Jacobian row is zero. For every step
+// d, |z + R d|^2 + last^2 = |r + J d|^2, so Levenberg-Marquardt (its
+// gradient, damping, Jacobi scaling and predicted decrease) takes the same
+// steps on it. `residuals`: kTagNumParams + 1; `jacobian`: row-major, as
+// many rows.
+void SquareRootForm(const NormalEquations& equations, double* residuals,
+                    double* jacobian);
+
 // The tag's image over a crop of the luma, as a Ceres cost function of the
 // parameters above: one residual per fitted pixel, the model's code less the
 // luma's, in 8-bit levels. Its Jacobian is analytic: each pixel's cover of
@@ -73,6 +95,12 @@ class TagImageCost : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
+  // The residuals' squared norm at `params`.
+  double SquaredNormAt(const double* params) const;
+  // The normal equations at `params`, without a Jacobian as big as the
+  // pixels for Ceres to copy and multiply on one core.
+  void NormalEquationsAt(const double* params, NormalEquations* out) const;
+
  private:
   struct Light;
   struct Drawn;
@@ -86,7 +114,12 @@ class TagImageCost : public ceres::CostFunction {
                  Light* light) const;
   // The model drawn at `params`: the one kept when the parameters are the
   // same.
-  const Drawn& DrawnAt(const double* params) const;
+  Drawn& DrawnAt(const double* params) const;
+  // The residuals at the point drawn, into `residuals` (one per fitted
+  // pixel).
+  void Residuals(const Drawn& drawn, double* residuals) const;
+  // The Jacobian at the point drawn, row-major, a row per fitted pixel.
+  void JacobianRows(const Drawn& drawn, double* jacobian) const;
 
   const TagBitmap& bitmap_;
   cv::Rect crop_;
@@ -96,6 +129,24 @@ class TagImageCost : public ceres::CostFunction {
   cv::Rect fitted_box_;      // their bounding box in the crop
   double black_level_ = 0, white_level_ = 255;
   mutable std::unique_ptr<Drawn> drawn_;  // the last point evaluated
+};
+
+// TagImageCost as Ceres fits it: SquareRootForm of its normal equations, so
+// that the solver's work per step is on 19 x 18 numbers, not 15 000 x 18
+// (docs/benchmarks.md, "The tag fitted whole: its cost"). Where only the
+// cost is asked for, the residuals are the norm and zeros.
+class TagImageNormalCost
+    : public ceres::SizedCostFunction<kTagNumParams + 1, kTagNumParams> {
+ public:
+  explicit TagImageNormalCost(std::unique_ptr<TagImageCost> pixels);
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+  const TagImageCost& pixels() const { return *pixels_; }
+
+ private:
+  std::unique_ptr<TagImageCost> pixels_;
 };
 
 }  // namespace softbench

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "util/check.h"
 #include "vision/tag_image_model.h"
@@ -27,11 +28,12 @@ namespace {
 // evaluations use both cores themselves).
 ceres::Solver::Options SolverOptions(const TagModelOptions& options) {
   ceres::Solver::Options solver;
-  // Eighteen parameters over some 15 000 pixels: the normal equations
-  // (18 x 18) cost a fifth of the QR of the whole Jacobian. Their squared
-  // condition is harmless here, where Ceres scales the columns and
+  // Eighteen parameters over some 15 000 pixels, handed to Ceres as their
+  // normal equations' square root (TagImageNormalCost, 19 x 18). Their
+  // squared condition is harmless here, where Ceres scales the columns and
   // Levenberg-Marquardt damps the diagonal: on FitTagModel's renders every
-  // fitted scale, level and iteration count came out as with DENSE_QR.
+  // fitted scale, level and iteration count came out as with DENSE_QR of the
+  // whole Jacobian.
   solver.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   solver.max_num_iterations = options.max_iterations;
   // Levenberg-Marquardt's first damping at a hundredth of the diagonal, not
@@ -99,15 +101,17 @@ TagModelFit FitTagModel(const cv::Mat& luma, const TagBitmap& bitmap,
     fit.why_not = "the tag and its margin leave the image";
     return fit;
   }
-  auto* cost =
-      new TagImageCost(luma, bitmap, crop, options.luma_encoding);  // owned
+  auto pixels =
+      std::make_unique<TagImageCost>(luma, bitmap, crop, options.luma_encoding);
   p[kTagBlur] = 0.5;
   p[kTagInk] = p[kTagTable] = 0.05;
   p[kTagPaper] = 0.8;
-  cost->Start(options.beyond_cells, p.data());
+  pixels->Start(options.beyond_cells, p.data());
   p[kTagSharpenRadius] = 1.0;
+  fit.pixels = pixels->num_residuals();
   ceres::Problem problem;
-  problem.AddResidualBlock(cost, nullptr, p.data());
+  problem.AddResidualBlock(new TagImageNormalCost(std::move(pixels)), nullptr,
+                           p.data());  // owned by the problem
   const std::pair<TagImageParam, std::pair<double, double>> bounds[] = {
       {kTagBlur, {0.0, 3.0}},
       {kTagInk, {0.0, 1.0}},
@@ -125,7 +129,6 @@ TagModelFit FitTagModel(const cv::Mat& luma, const TagBitmap& bitmap,
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
   fit.iterations = static_cast<int>(summary.iterations.size());
-  fit.pixels = cost->num_residuals();
   fit.rms_levels = std::sqrt(2.0 * summary.final_cost / fit.pixels);
   for (int i = 0; i < 4; ++i) fit.corners[i] = {p[2 * i], p[2 * i + 1]};
   fit.lens_blur_px = p[kTagBlur];

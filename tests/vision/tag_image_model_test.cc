@@ -1,5 +1,6 @@
 // The tag's image model (vision/tag_image_model.h): its analytic Jacobian
-// against central differences of its residuals.
+// against central differences of its residuals, and the normal equations'
+// square root that Ceres fits.
 #include "vision/tag_image_model.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include <Eigen/LU>
 #include <array>
 #include <opencv2/core.hpp>
+#include <random>
 #include <vector>
 
 namespace softbench {
@@ -143,6 +145,106 @@ TEST(TagImageCost, JacobianMatchesCentralDifferencesInHlg) {
       LumaEncoding{
           .transfer = Transfer::kHlg, .full_range = false, .deep_bits = 10},
       CV_16U);
+}
+
+// The Jacobian is filtered by bands of rows, one per core, each reading the
+// rows beyond it: any number of bands gives the whole image's numbers.
+TEST(TagImageCost, JacobianIsTheSameOnAnyNumberOfCores) {
+  const TagBitmap bitmap = Tag36h11Bitmap(7);
+  const cv::Mat luma = cv::Mat::zeros(200, 220, CV_8U);
+  const LumaEncoding encoding{.transfer = Transfer::kSdr, .full_range = false};
+  const std::array<double, kTagNumParams> p = TiltedTag();
+  const int threads = cv::getNumThreads();
+  std::vector<std::vector<double>> jacobians_by_cores;
+  for (const int cores : {1, 2}) {
+    cv::setNumThreads(cores);
+    TagImageCost cost(luma, bitmap, kCrop, encoding);
+    std::array<double, kTagNumParams> start = p;
+    cost.Start(0.5, start.data());
+    std::vector<double> residuals(cost.num_residuals());
+    std::vector<double> jacobian(residuals.size() * kTagNumParams);
+    const double* blocks[1] = {p.data()};
+    double* jacobians[1] = {jacobian.data()};
+    ASSERT_TRUE(cost.Evaluate(blocks, residuals.data(), jacobians));
+    jacobians_by_cores.push_back(jacobian);
+  }
+  cv::setNumThreads(threads);
+  EXPECT_EQ(jacobians_by_cores[0], jacobians_by_cores[1]);
+}
+
+// Levenberg-Marquardt sees J and r only through |r + J d|^2 (and its
+// gradient and curvature), which the square root form must keep for every
+// step d, also where J^T J is singular.
+void CheckSquareRootForm(int zero_column) {
+  std::mt19937 random(7);
+  std::normal_distribution<double> normal;
+  const int n = 300;
+  Eigen::MatrixXd j(n, kTagNumParams);
+  Eigen::VectorXd r(n);
+  for (int i = 0; i < n; ++i) {
+    r[i] = normal(random);
+    // Columns of very different sizes, as corners (px) against levels.
+    for (int k = 0; k < kTagNumParams; ++k) {
+      j(i, k) = normal(random) * std::pow(10.0, k % 5 - 2);
+    }
+  }
+  if (zero_column >= 0) j.col(zero_column).setZero();
+  NormalEquations equations;
+  equations.squared_norm = r.squaredNorm();
+  equations.jtj = j.transpose() * j;
+  equations.jtr = j.transpose() * r;
+  Eigen::Matrix<double, kTagNumParams + 1, 1> z;
+  Eigen::Matrix<double, kTagNumParams + 1, kTagNumParams, Eigen::RowMajor> root;
+  SquareRootForm(equations, z.data(), root.data());
+  EXPECT_NEAR(z.squaredNorm(), r.squaredNorm(), 1e-10 * r.squaredNorm());
+  EXPECT_TRUE(root.row(kTagNumParams).isZero());
+  EXPECT_LT((root.transpose() * root - equations.jtj).norm(),
+            1e-12 * equations.jtj.norm());
+  EXPECT_LT((root.transpose() * z - equations.jtr).norm(),
+            1e-10 * equations.jtr.norm());
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::Matrix<double, kTagNumParams, 1> d;
+    for (int k = 0; k < kTagNumParams; ++k) {
+      d[k] = normal(random) * std::pow(10.0, 2 - k % 5);
+    }
+    const double whole = (r + j * d).squaredNorm();
+    EXPECT_NEAR((z + root * d).squaredNorm(), whole, 1e-9 * whole);
+  }
+}
+
+TEST(SquareRootForm, KeepsEveryStepsCost) { CheckSquareRootForm(-1); }
+
+TEST(SquareRootForm, KeepsEveryStepsCostWithAZeroColumn) {
+  CheckSquareRootForm(kTagTable);
+}
+
+// The normal equations summed on all cores are those of the Jacobian Ceres
+// would have been given.
+TEST(TagImageCost, NormalEquationsAreThoseOfItsJacobian) {
+  const TagBitmap bitmap = Tag36h11Bitmap(7);
+  cv::Mat luma(200, 220, CV_8U);
+  cv::randu(luma, 0, 255);
+  const LumaEncoding encoding{.transfer = Transfer::kSdr, .full_range = false};
+  const std::array<double, kTagNumParams> p = TiltedTag();
+  TagImageCost cost(luma, bitmap, kCrop, encoding);
+  std::array<double, kTagNumParams> start = p;
+  cost.Start(0.5, start.data());
+  const int n = cost.num_residuals();
+  Eigen::VectorXd r(n);
+  Eigen::Matrix<double, Eigen::Dynamic, kTagNumParams, Eigen::RowMajor> j(
+      n, kTagNumParams);
+  const double* blocks[1] = {p.data()};
+  double* jacobians[1] = {j.data()};
+  ASSERT_TRUE(cost.Evaluate(blocks, r.data(), jacobians));
+  NormalEquations equations;
+  cost.NormalEquationsAt(p.data(), &equations);
+  EXPECT_NEAR(equations.squared_norm, r.squaredNorm(), 1e-12 * r.squaredNorm());
+  EXPECT_NEAR(cost.SquaredNormAt(p.data()), r.squaredNorm(),
+              1e-12 * r.squaredNorm());
+  const NormalEquations::Matrix jtj = j.transpose() * j;
+  const NormalEquations::Vector jtr = j.transpose() * r;
+  EXPECT_LT((equations.jtj - jtj).norm(), 1e-12 * jtj.norm());
+  EXPECT_LT((equations.jtr - jtr).norm(), 1e-12 * jtr.norm());
 }
 
 }  // namespace
