@@ -538,7 +538,9 @@ void TagImageCost::NormalEquationsAt(const double* params,
       const Eigen::Map<const Eigen::VectorXd> r(drawn.residuals.data() + i_0,
                                                 rows);
       partial[b].squared_norm = r.squaredNorm();
-      partial[b].jtj.noalias() = j.transpose() * j;
+      // The lower half only (a symmetric rank update: half the products of
+      // J^T J in full).
+      partial[b].jtj.selfadjointView<Eigen::Lower>().rankUpdate(j.transpose());
       partial[b].jtr.noalias() = j.transpose() * r;
     }
   });
@@ -548,6 +550,7 @@ void TagImageCost::NormalEquationsAt(const double* params,
     out->jtj += p.jtj;
     out->jtr += p.jtr;
   }
+  out->jtj.triangularView<Eigen::StrictlyUpper>() = out->jtj.transpose();
 }
 
 void TagImageCost::JacobianRows(const Drawn& drawn, double* jacobian) const {
