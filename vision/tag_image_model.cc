@@ -185,6 +185,22 @@ void Separable(const cv::Mat& image, const cv::Mat& kx, const cv::Mat& ky,
                   cv::BORDER_REPLICATE);
 }
 
+// Runs fn(rows) on as many bands of [0, rows) as there are cores, a band on
+// each: a filter of an image's band (a cv::Mat ROI) reads the rows beyond
+// it, so each band's numbers are the whole image's.
+template <typename Fn>
+void ForEachBand(int rows, const Fn& fn) {
+  const int bands = std::max(1, cv::getNumThreads());
+  cv::parallel_for_(
+      cv::Range(0, bands),
+      [&](const cv::Range& range) {
+        for (int b = range.start; b < range.end; ++b) {
+          fn(cv::Range(rows * b / bands, rows * (b + 1) / bands));
+        }
+      },
+      bands);
+}
+
 // The sharpening's Gaussian of sigma `r`, normalised, to 4 sigma each side
 // (cv::getGaussianKernel, with the size cv::GaussianBlur gives a
 // floating-point image; the taps beyond hold 6e-5 of its weight, and
@@ -451,20 +467,22 @@ TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
   // residuals are evaluated are Levenberg-Marquardt's accepted steps, whose
   // Jacobian is asked for next and then costs only its columns' filters.
   DrawLight(p, d.region, &d.light);
-  // The pixel filter, in light: taps (w, 1 - 2w, w) both ways.
+  // The pixel filter, in light: taps (w, 1 - 2w, w) both ways; then the
+  // video's curve (clipped at black and white) and the tone curve: the
+  // codes, with their slope by the filtered light and by the curve's
+  // strength. Pointwise after the filter, so a band of rows on each core.
   const double w = p[kTagPixelFilter];
   d.taps = (cv::Mat_<double>(3, 1) << w, 1.0 - 2.0 * w, w);
-  Separable(d.light.light, d.taps, d.taps, &d.filtered);
-  // The video's curve (clipped at black and white), then the tone curve:
-  // the codes, with their slope by the filtered light and by the curve's
-  // strength.
   const double k = p[kTagToneCurve];
-  d.codes.create(d.region.size(), CV_64F);
-  d.slope.create(d.region.size(), CV_64F);
-  d.by_strength.create(d.region.size(), CV_64F);
-  // Pointwise, through pow(): on all cores.
-  cv::parallel_for_(cv::Range(0, d.codes.rows), [&](const cv::Range& rows) {
-    for (int i = rows.start * d.codes.cols; i < rows.end * d.codes.cols; ++i) {
+  for (cv::Mat* image : {&d.filtered, &d.codes, &d.slope, &d.by_strength,
+                         &d.soft, &d.sharpened}) {
+    image->create(d.region.size(), CV_64F);
+  }
+  const int cols = d.region.width;
+  ForEachBand(d.region.height, [&](const cv::Range& band) {
+    cv::Mat filtered = d.filtered.rowRange(band);
+    Separable(d.light.light.rowRange(band), d.taps, d.taps, &filtered);
+    for (int i = band.start * cols; i < band.end * cols; ++i) {
       const double m = d.filtered.ptr<double>()[i];
       const double c = std::clamp(
           FromLinear(encoding_.transfer, std::clamp(m, 0.0, 1.0)), 0.0, 1.0);
@@ -480,8 +498,13 @@ TagImageCost::Drawn& TagImageCost::DrawnAt(const double* p) const {
   const double a = p[kTagSharpenAmount];
   std::tie(d.gaussian, d.d_gaussian) =
       GaussianAndDerivative(p[kTagSharpenRadius]);
-  Separable(d.codes, d.gaussian, d.gaussian, &d.soft);
-  cv::addWeighted(d.codes, 1.0 + a, d.soft, -a, 0.0, d.sharpened);
+  ForEachBand(d.region.height, [&](const cv::Range& band) {
+    const cv::Mat codes = d.codes.rowRange(band);
+    cv::Mat soft = d.soft.rowRange(band);
+    cv::Mat sharpened = d.sharpened.rowRange(band);
+    Separable(codes, d.gaussian, d.gaussian, &soft);
+    cv::addWeighted(codes, 1.0 + a, soft, -a, 0.0, sharpened);
+  });
   return d;
 }
 
@@ -571,74 +594,66 @@ void TagImageCost::JacobianRows(const Drawn& drawn, double* jacobian) const {
   // d residual / d parameter, by bands of the region's rows: each core
   // filters every column over its band (and the sharpening's reach beyond
   // it) in scratch images it reuses from column to column, and writes its
-  // fitted pixels' rows of the Jacobian straight into Ceres's array. Filters
-  // of an image's rows (cv::Mat ROIs) read the rows around them, so each
-  // band's values are the whole image's. Before, the columns were split
-  // between cores and gathered in a column-major copy that was then
-  // transposed into Ceres's array: 2 MB of fresh pages on the first
-  // Jacobian inside `validate` (docs/benchmarks.md, "The tag fitted whole:
-  // its cost").
-  const int bands = std::max(1, cv::getNumThreads());
-  const auto band_rows = [&](const cv::Range& range) {
-    // Reused by this core's columns: two over the wide band, two over the
+  // fitted pixels' rows of the Jacobian straight into `jacobian`. Before,
+  // the columns were split between cores and gathered in a column-major
+  // copy that was then transposed: 2 MB of fresh pages on the first Jacobian
+  // inside `validate` (docs/benchmarks.md, "The tag fitted whole: its
+  // cost").
+  ForEachBand(rows, [&](const cv::Range& band) {
+    // Reused by this band's columns: two over the wide band, two over the
     // band.
     cv::Mat wide_a, wide_b, one, out;
-    for (int b = range.start; b < range.end; ++b) {
-      const cv::Range band(rows * b / bands, rows * (b + 1) / bands);
-      const cv::Range wide(std::max(0, band.start - halo),
-                           std::min(rows, band.end + halo));
-      const cv::Range in_wide(band.start - wide.start, band.end - wide.start);
-      // The fitted pixels in the band: `at` rises with the row.
-      const int i_0 = static_cast<int>(
-          std::partition_point(at.begin(), at.end(),
-                               [&](int k) { return k < band.start * cols; }) -
-          at.begin());
-      const int i_1 = static_cast<int>(
-          std::partition_point(at.begin(), at.end(),
-                               [&](int k) { return k < band.end * cols; }) -
-          at.begin());
-      // d sharpened over the band from d codes over the wide band, into
-      // `out`: the unsharp mask is linear.
-      const auto sharpen = [&](const cv::Mat& d_codes_wide) {
-        const cv::Mat d_codes = d_codes_wide.rowRange(in_wide);
-        Separable(d_codes, gaussian, gaussian, &one);
-        cv::addWeighted(d_codes, 1.0 + a, one, -a, 0.0, out);
-      };
-      for (int j = 0; j < kTagNumParams; ++j) {
-        if (j < kLightParams) {
-          Separable(light.d_light[j].rowRange(wide), taps, taps, &wide_a);
-          cv::multiply(slope.rowRange(wide), wide_a, wide_b);
-          sharpen(wide_b);
-        } else if (j == kTagPixelFilter) {
-          const cv::Mat lit = light.light.rowRange(wide);
-          Separable(lit, d_taps, taps, &wide_a);
-          Separable(lit, taps, d_taps, &wide_b);
-          cv::add(wide_a, wide_b, wide_a);
-          cv::multiply(slope.rowRange(wide), wide_a, wide_b);
-          sharpen(wide_b);
-        } else if (j == kTagToneCurve) {
-          sharpen(drawn.by_strength.rowRange(wide));
-        } else if (j == kTagSharpenAmount) {
-          cv::subtract(codes.rowRange(band), drawn.soft.rowRange(band), out);
-        } else {  // kTagSharpenRadius
-          const cv::Mat c = codes.rowRange(band);
-          Separable(c, d_gaussian, gaussian, &one);
-          Separable(c, gaussian, d_gaussian, &out);
-          cv::addWeighted(one, -a, out, -a, 0.0, out);
-        }
-        // Zero where the codes clip.
-        const double* d = out.ptr<double>();
-        const int first = band.start * cols;
-        double* row =
-            jacobian + static_cast<ptrdiff_t>(i_0) * kTagNumParams + j;
-        for (int i = i_0; i < i_1; ++i, row += kTagNumParams) {
-          const double m = model[at[i]];
-          *row = m > 0.0 && m < 1.0 ? span * d[at[i] - first] : 0.0;
-        }
+    const cv::Range wide(std::max(0, band.start - halo),
+                         std::min(rows, band.end + halo));
+    const cv::Range in_wide(band.start - wide.start, band.end - wide.start);
+    // The fitted pixels in the band: `at` rises with the row.
+    const int i_0 = static_cast<int>(
+        std::partition_point(at.begin(), at.end(),
+                             [&](int k) { return k < band.start * cols; }) -
+        at.begin());
+    const int i_1 = static_cast<int>(
+        std::partition_point(at.begin(), at.end(),
+                             [&](int k) { return k < band.end * cols; }) -
+        at.begin());
+    // d sharpened over the band from d codes over the wide band, into
+    // `out`: the unsharp mask is linear.
+    const auto sharpen = [&](const cv::Mat& d_codes_wide) {
+      const cv::Mat d_codes = d_codes_wide.rowRange(in_wide);
+      Separable(d_codes, gaussian, gaussian, &one);
+      cv::addWeighted(d_codes, 1.0 + a, one, -a, 0.0, out);
+    };
+    for (int j = 0; j < kTagNumParams; ++j) {
+      if (j < kLightParams) {
+        Separable(light.d_light[j].rowRange(wide), taps, taps, &wide_a);
+        cv::multiply(slope.rowRange(wide), wide_a, wide_b);
+        sharpen(wide_b);
+      } else if (j == kTagPixelFilter) {
+        const cv::Mat lit = light.light.rowRange(wide);
+        Separable(lit, d_taps, taps, &wide_a);
+        Separable(lit, taps, d_taps, &wide_b);
+        cv::add(wide_a, wide_b, wide_a);
+        cv::multiply(slope.rowRange(wide), wide_a, wide_b);
+        sharpen(wide_b);
+      } else if (j == kTagToneCurve) {
+        sharpen(drawn.by_strength.rowRange(wide));
+      } else if (j == kTagSharpenAmount) {
+        cv::subtract(codes.rowRange(band), drawn.soft.rowRange(band), out);
+      } else {  // kTagSharpenRadius
+        const cv::Mat c = codes.rowRange(band);
+        Separable(c, d_gaussian, gaussian, &one);
+        Separable(c, gaussian, d_gaussian, &out);
+        cv::addWeighted(one, -a, out, -a, 0.0, out);
+      }
+      // Zero where the codes clip.
+      const double* d = out.ptr<double>();
+      const int first = band.start * cols;
+      double* row = jacobian + static_cast<ptrdiff_t>(i_0) * kTagNumParams + j;
+      for (int i = i_0; i < i_1; ++i, row += kTagNumParams) {
+        const double m = model[at[i]];
+        *row = m > 0.0 && m < 1.0 ? span * d[at[i] - first] : 0.0;
       }
     }
-  };
-  cv::parallel_for_(cv::Range(0, bands), band_rows, bands);
+  });
 }
 
 void SquareRootForm(const NormalEquations& equations, double* residuals,
