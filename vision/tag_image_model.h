@@ -97,8 +97,9 @@ class TagImageCost : public ceres::CostFunction {
 
   // The residuals' squared norm at `params`.
   double SquaredNormAt(const double* params) const;
-  // The normal equations at `params`, without a Jacobian as big as the
-  // pixels for Ceres to copy and multiply on one core.
+  // The normal equations at `params`, summed on all cores from the Jacobian
+  // kept with the point drawn, so that Ceres need not copy and multiply a
+  // Jacobian as big as the pixels on one core.
   void NormalEquationsAt(const double* params, NormalEquations* out) const;
 
  private:
