@@ -12,7 +12,10 @@ namespace softbench {
 // benchmarks run on, where the tag's fit (vision/tag_model.h) spent a
 // third of its time in them (docs/benchmarks.md, "The tag fitted whole:
 // its cost"). Called once, first thing in main; a no-op where the C
-// library is not glibc.
+// library is not glibc. Its price is memory on long videos (10 minutes:
+// 158 -> 175 MB at 1080p, 328 -> 371 MB at 4K); held only around the fit
+// instead, it saved that but made the fit's footage 1.5-3 % slower
+// (docs/benchmarks.md, "A 10-minute 4K video: peak memory").
 void KeepFreedMemory();
 
 }  // namespace softbench
