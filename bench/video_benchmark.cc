@@ -5,6 +5,7 @@
 // measurement speed (region tracking, full-frame detection).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -13,6 +14,7 @@
 #include "pipelines/measurement/plan_camera.h"
 #include "pipelines/measurement/video_measurement.h"
 #include "pipelines/synthetic/scene_renderer.h"
+#include "vision/color_segmentation.h"
 #include "vision/frame_source.h"
 #include "vision/head_tracker.h"
 #include "vision/static_patches.h"
@@ -155,6 +157,56 @@ void BM_FitTagModel(benchmark::State& state) {
   state.counters["pixels"] = fit.pixels;
 }
 BENCHMARK(BM_FitTagModel)->Unit(benchmark::kMillisecond);
+
+// A tracked dot's colour region as HeadTracker cuts it (1.5 dot radii
+// each side of the dot's last centre): a red dot of `radius` px on the
+// head's grey, with the codec's noise.
+cv::Mat TrackedDotRegion(int radius) {
+  const int half = static_cast<int>(std::ceil(1.5 * radius));
+  cv::Mat bgr(2 * half + 1, 2 * half + 1, CV_8UC3, cv::Scalar(150, 160, 165));
+  cv::circle(bgr, {half, half}, radius, cv::Scalar(45, 40, 190), cv::FILLED,
+             cv::LINE_AA);
+  cv::Mat noise(bgr.size(), CV_8UC3);
+  cv::randn(noise, cv::Scalar::all(0), cv::Scalar::all(6));
+  return bgr + noise;
+}
+
+// The colour mask of a tracked dot's region (red: a hue range that wraps)
+// and its cleaning, as every frame does for every dot; `opencv` the same
+// with OpenCV's cv::inRange (twice, for the wrap) and cv::morphologyEx
+// (the peer: what CleanMask and ColorMask ran until 2026-12-06). The dot's
+// radius is the delta sample's at 1080p (11 px) and at 4K (22 px).
+void BM_TrackedDotMask(benchmark::State& state, bool opencv) {
+  const int radius = static_cast<int>(state.range(0));
+  const cv::Mat bgr = TrackedDotRegion(radius);
+  const HsvRange red = HsvRange::FromBounds({170, 10, 100, 255, 50, 255});
+  SegmentationOptions options;
+  options.dot_radius_px = radius;
+  const int r = std::max(1, static_cast<int>(std::lround(0.15 * radius)));
+  const cv::Mat disk =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
+  int set = 0;
+  for (auto _ : state) {
+    cv::Mat mask;
+    if (opencv) {
+      cv::Mat hsv, upper;
+      cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+      cv::inRange(hsv, cv::Scalar(170, 100, 50), cv::Scalar(179, 255, 255),
+                  upper);
+      cv::inRange(hsv, cv::Scalar(0, 100, 50), cv::Scalar(10, 255, 255), mask);
+      mask |= upper;
+      cv::morphologyEx(mask, mask, cv::MORPH_OPEN, disk);
+      cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, disk);
+    } else {
+      mask = ColorMask(bgr, red);
+      CleanMask(options, &mask);
+    }
+    set = cv::countNonZero(mask);
+  }
+  state.counters["set_px"] = set;
+}
+BENCHMARK_CAPTURE(BM_TrackedDotMask, softbench, false)->Arg(11)->Arg(22);
+BENCHMARK_CAPTURE(BM_TrackedDotMask, opencv, true)->Arg(11)->Arg(22);
 
 // Decodes the whole file: decode only (Skip), or with the luma plane each
 // later stage reads.

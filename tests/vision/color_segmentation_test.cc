@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "vision/color_tuning.h"
 
@@ -37,6 +38,39 @@ TEST(HsvRange, RedWrapsThroughOneEighty) {
   EXPECT_EQ(mask.at<uint8_t>(0, 1), 255);
   EXPECT_EQ(mask.at<uint8_t>(0, 2), 0);
   EXPECT_EQ(mask.at<uint8_t>(0, 3), 0);
+}
+
+TEST(ColorMask, MatchesOpenCvsInRangeOnRandomPixels) {
+  // Every pixel's verdict as cv::inRange gives it (two ranges and their
+  // union for a hue that wraps), for ranges that wrap and ranges that do
+  // not.
+  std::mt19937 random(11);
+  cv::Mat bgr(64, 96, CV_8UC3), hsv;
+  cv::randu(bgr, cv::Scalar::all(0), cv::Scalar::all(256));
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  for (int trial = 0; trial < 200; ++trial) {
+    HsvRange r;
+    r.hue_low = static_cast<int>(random() % 180);
+    r.hue_high = static_cast<int>(random() % 180);
+    r.saturation_low = static_cast<int>(random() % 200);
+    r.saturation_high = r.saturation_low + static_cast<int>(random() % 56);
+    r.value_low = static_cast<int>(random() % 200);
+    r.value_high = r.value_low + static_cast<int>(random() % 56);
+    cv::Mat expected;
+    const cv::Scalar high(r.Wraps() ? 179 : r.hue_high, r.saturation_high,
+                          r.value_high);
+    cv::inRange(hsv, cv::Scalar(r.hue_low, r.saturation_low, r.value_low), high,
+                expected);
+    if (r.Wraps()) {
+      cv::Mat lower;
+      cv::inRange(hsv, cv::Scalar(0, r.saturation_low, r.value_low),
+                  cv::Scalar(r.hue_high, r.saturation_high, r.value_high),
+                  lower);
+      expected |= lower;
+    }
+    ASSERT_EQ(cv::countNonZero(ColorMask(bgr, r) != expected), 0)
+        << "hue " << r.hue_low << ".." << r.hue_high;
+  }
 }
 
 TEST(FindBlobs, KeepsDotsAndRejectsATubeAndSpecks) {
