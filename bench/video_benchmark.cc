@@ -182,7 +182,8 @@ void BM_TrackedDotMask(benchmark::State& state, bool opencv) {
   const HsvRange red = HsvRange::FromBounds({170, 10, 100, 255, 50, 255});
   SegmentationOptions options;
   options.dot_radius_px = radius;
-  const int r = std::max(1, static_cast<int>(std::lround(0.15 * radius)));
+  const int r = std::max(
+      1, static_cast<int>(std::lround(options.morphology_fraction * radius)));
   const cv::Mat disk =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
   int set = 0;
@@ -191,9 +192,12 @@ void BM_TrackedDotMask(benchmark::State& state, bool opencv) {
     if (opencv) {
       cv::Mat hsv, upper;
       cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
-      cv::inRange(hsv, cv::Scalar(170, 100, 50), cv::Scalar(179, 255, 255),
-                  upper);
-      cv::inRange(hsv, cv::Scalar(0, 100, 50), cv::Scalar(10, 255, 255), mask);
+      cv::inRange(hsv,
+                  cv::Scalar(red.hue_low, red.saturation_low, red.value_low),
+                  cv::Scalar(179, red.saturation_high, red.value_high), upper);
+      cv::inRange(hsv, cv::Scalar(0, red.saturation_low, red.value_low),
+                  cv::Scalar(red.hue_high, red.saturation_high, red.value_high),
+                  mask);
       mask |= upper;
       cv::morphologyEx(mask, mask, cv::MORPH_OPEN, disk);
       cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, disk);

@@ -141,6 +141,7 @@ void Erode(const std::vector<int>& half_widths, BitRows* bits,
   const size_t plane = static_cast<size_t>(rows) * words;
   // (*across)[w * plane + y * words + i]: row y eroded along by half width w.
   across->resize((widest + 1) * plane);
+  const uint64_t padding = bits->padding();
   for (int y = 0; y < rows; ++y) {
     const uint64_t* row = bits->Row(y);
     uint64_t* eroded = across->data() + y * words;
@@ -149,7 +150,7 @@ void Erode(const std::vector<int>& half_widths, BitRows* bits,
     for (int w = 1; w <= widest; ++w) {
       for (int i = 0; i < words; ++i) eroded[plane + i] = eroded[i];
       eroded += plane;
-      ErodeAlongByOne(bits->padding(), words, eroded);
+      ErodeAlongByOne(padding, words, eroded);
     }
   }
   for (int y = 0; y < rows; ++y) {
@@ -164,13 +165,6 @@ void Erode(const std::vector<int>& half_widths, BitRows* bits,
       out[i] = word;
     }
   }
-}
-
-void Dilate(const std::vector<int>& half_widths, BitRows* bits,
-            std::vector<uint64_t>* across) {
-  bits->Invert();
-  Erode(half_widths, bits, across);
-  bits->Invert();
 }
 
 // The half width of each row of OpenCV's elliptical element (each row is
@@ -203,10 +197,14 @@ void OpenThenClose(int radius, cv::Mat* mask) {
   const std::vector<int> half_widths = EllipseRows(radius);
   BitRows bits(mask->rows, mask->cols);
   bits.Pack(*mask);
+  // Opening (erode, dilate) then closing (dilate, erode), each dilation the
+  // erosion of the complement: the two dilations share one complement.
   std::vector<uint64_t> across;
-  Erode(half_widths, &bits, &across);  // the opening
-  Dilate(half_widths, &bits, &across);
-  Dilate(half_widths, &bits, &across);  // the closing
+  Erode(half_widths, &bits, &across);
+  bits.Invert();
+  Erode(half_widths, &bits, &across);
+  Erode(half_widths, &bits, &across);
+  bits.Invert();
   Erode(half_widths, &bits, &across);
   bits.Unpack(mask);
 }
