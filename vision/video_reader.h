@@ -38,11 +38,12 @@ struct VideoFrame {
 struct VideoReaderOptions {
   bool want_luma = true;
   bool want_bgr = true;
-  // Decoder threads; 0: one per core the process may run on. FFmpeg's own
-  // choice is one more than that, which leaves the thread that takes and
-  // measures the frames and the decoder's preempting each other: on 2
-  // cores, `validate` on HEVC took 6-7 % more wall time and 3-4 % more CPU
-  // with it (docs/benchmarks.md, "One decoder thread per core").
+  // Decoder threads; 0: one per core, counted as the project's workers are
+  // (std::thread::hardware_concurrency). FFmpeg's own choice is one more,
+  // which leaves the thread that takes and measures the frames and the
+  // decoder's preempting each other: on 2 cores, `validate` on HEVC took
+  // 6-7 % more wall time and 3-4 % more CPU with it (docs/benchmarks.md,
+  // "One decoder thread per core").
   int threads = 0;
 };
 

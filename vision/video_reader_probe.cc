@@ -8,11 +8,11 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <thread>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
-#include <libavutil/cpu.h>
 #include <libavutil/display.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/pixdesc.h>
@@ -97,7 +97,9 @@ void VideoReader::State::Open() {
   codec = avcodec_alloc_context3(decoder);
   avcodec_parameters_to_context(codec, st->codecpar);
   codec->thread_count =
-      options.threads > 0 ? options.threads : std::max(1, av_cpu_count());
+      options.threads > 0
+          ? options.threads
+          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   codec->thread_type = FF_THREAD_FRAME | FF_THREAD_SLICE;
   CountDecoderErrors();
   err = avcodec_open2(codec, decoder, nullptr);
