@@ -11,13 +11,14 @@
 
 namespace softbench {
 
+int CoreCount() {
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 void RunParallelTasks(int count, int threads,
                       const std::function<void(int)>& task,
                       const std::function<void()>& poll) {
-  if (threads <= 0) {
-    threads =
-        std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  }
+  if (threads <= 0) threads = CoreCount();
   threads = std::max(1, std::min(threads, count));
   std::atomic<int> next{0};
   int finished = 0;  // guarded by `mutex`

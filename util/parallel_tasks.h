@@ -5,6 +5,10 @@
 
 namespace softbench {
 
+// The cores to run on (std::thread::hardware_concurrency), at least 1: the
+// one count of cores that workers, decoder threads and windows share.
+int CoreCount();
+
 // Runs task(0) ... task(count - 1) on `threads` worker threads (0: one per
 // core), each index exactly once, while the calling thread calls `poll` about
 // ten times a second (progress bars); returns as soon as the last task has

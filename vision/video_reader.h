@@ -39,7 +39,7 @@ struct VideoReaderOptions {
   bool want_luma = true;
   bool want_bgr = true;
   // Decoder threads; 0: one per core, counted as the project's workers are
-  // (std::thread::hardware_concurrency). FFmpeg's own choice is one more,
+  // (CoreCount, util/parallel_tasks.h). FFmpeg's own choice is one more,
   // which leaves the thread that takes and measures the frames and the
   // decoder's preempting each other: on 2 cores, `validate` on HEVC took
   // 6-7 % more wall time and 3-4 % more CPU with it (docs/benchmarks.md,

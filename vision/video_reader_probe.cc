@@ -8,7 +8,6 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
-#include <thread>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -21,6 +20,7 @@ extern "C" {
 
 #include "util/input_error.h"
 #include "util/input_file.h"
+#include "util/parallel_tasks.h"
 #include "vision/ffmpeg_util.h"
 #include "vision/video_reader_state.h"
 
@@ -96,10 +96,7 @@ void VideoReader::State::Open() {
   }
   codec = avcodec_alloc_context3(decoder);
   avcodec_parameters_to_context(codec, st->codecpar);
-  codec->thread_count =
-      options.threads > 0
-          ? options.threads
-          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  codec->thread_count = options.threads > 0 ? options.threads : CoreCount();
   codec->thread_type = FF_THREAD_FRAME | FF_THREAD_SLICE;
   CountDecoderErrors();
   err = avcodec_open2(codec, decoder, nullptr);

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <future>
 #include <memory>
-#include <thread>
 
 #include "pipelines/measurement/distortion_check.h"
 #include "pipelines/measurement/plan_camera.h"
@@ -304,8 +303,7 @@ class WindowReader {
 
 // How many workers measure the windows, one per core.
 size_t WindowJobs(const std::vector<TimeSpan>& spans) {
-  return std::min<size_t>(spans.size(),
-                          std::max(1u, std::thread::hardware_concurrency()));
+  return std::min<size_t>(spans.size(), CoreCount());
 }
 
 // The readers of the windows' workers after the first, each sought to its
@@ -631,7 +629,7 @@ VideoMeasurement MeasureVideo(const TestPlan& plan, VideoReader* reader,
   ProgressBar progress("measure", frames_wanted, options.progress);
   std::atomic<int64_t> frames_done{0};
   std::vector<SpanMeasurer> measurers;
-  measurers.reserve(std::max(1u, std::thread::hardware_concurrency()));
+  measurers.reserve(CoreCount());
   const auto make = [&](VideoReader* r) {
     return SpanMeasurer(
         plan, r, mapping, m.mm_per_px,
