@@ -6,7 +6,9 @@
 # decides by default (report/), with --no-lift-correction (report-left-in/)
 # and with --lift-correction (report-corrected/), and each test point's lift
 # and displacement compared with the render's truth (bench/score_lift.py).
-#   bench/run_lift_bench.sh [delta|floating...]   (default: both)
+#   bench/run_lift_bench.sh [delta|floating|delta_wide|floating_wide...]
+# (default: delta floating). The _wide plans print each head's dots 2.36
+# times further apart (toward the plate's corners): the dot spacing's share.
 # SOFTBENCH=path runs another build. A clip is rendered once and kept.
 # LIFT_CRF=N renders at that x264 quality instead of 10 Mb/s (CRF 4 is
 # about 116 Mb/s at 1080p), into build/bench-lift/NAME-crfN: the bit rate's
