@@ -7,14 +7,19 @@
 # and with --lift-correction (report-corrected/), and each test point's lift
 # and displacement compared with the render's truth (bench/score_lift.py).
 #   bench/run_lift_bench.sh [delta|floating|delta_wide|floating_wide...]
-# (default: delta floating). The _wide plans print each head's dots 2.36
-# times further apart (toward the plate's corners): the dot spacing's share.
+# (default: delta floating; also floating_flat, floating_wide_flat). The
+# _wide plans print each head's dots 2.36 times further apart (toward the
+# plate's corners): the dot spacing's share.
 # SOFTBENCH=path runs another build. A clip is rendered once and kept.
 # LIFT_CRF=N renders at that x264 quality instead of 10 Mb/s (CRF 4 is
 # about 116 Mb/s at 1080p), into build/bench-lift/NAME-crfN: the bit rate's
 # share of the lift's error. LIFT_HLG=1 renders as an iPhone writes by
 # default (HEVC Main 10, HLG, BT.2020) at the same 10 Mb/s, into
 # build/bench-lift/NAME-hlg: the codec's share at a phone's bit rate.
+# LIFT_DISTANCE_MM=N puts the camera N mm above the dots instead of the
+# renderer's 475 (every dot on another pixel phase), into DIR-dN. The
+# *_flat plans keep every head flat: what an in-plane move alone reads as
+# lift (docs/measurement.md, "An offset on each head's lifts").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 softbench=${SOFTBENCH:-./build/release/softbench}
@@ -39,13 +44,19 @@ for name in "${names[@]}"; do
     dir=$out/$name-hlg
     quality=(--bitrate-mbps 10 --codec hevc --bit-depth 10 --hdr hlg)
   fi
+  distance=()
+  if [[ -n ${LIFT_DISTANCE_MM:-} ]]; then
+    label="$label, camera $LIFT_DISTANCE_MM mm"
+    dir=$dir-d$LIFT_DISTANCE_MM
+    distance=(--distance-mm "$LIFT_DISTANCE_MM")
+  fi
   mkdir -p "$dir"
   if [[ ! -f $dir/clip.mp4 ]]; then
     echo "rendering $dir/clip.mp4..." >&2
     $softbench --quiet render --plan "bench/lift_$name.plan.yaml" \
       --out "$dir/clip.tmp.mp4" --truth "$dir/truth.csv" \
       --plan-out "$dir/plan.yaml" --preset veryfast --resolution 1080p \
-      "${quality[@]}" --seed 27
+      "${quality[@]}" "${distance[@]}" --seed 27
     mv "$dir/clip.tmp.mp4" "$dir/clip.mp4"
   fi
   $softbench --quiet validate "$dir/clip.mp4" --plan "$dir/plan.yaml" \
