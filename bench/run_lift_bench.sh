@@ -7,9 +7,8 @@
 # and with --lift-correction (report-corrected/), and each test point's lift
 # and displacement compared with the render's truth (bench/score_lift.py).
 #   bench/run_lift_bench.sh [delta|floating|delta_wide|floating_wide...]
-# (default: delta floating; also floating_flat, floating_wide_flat). The
-# _wide plans print each head's dots 2.36 times further apart (toward the
-# plate's corners): the dot spacing's share.
+# (default: delta floating). The _wide plans print each head's dots 2.36
+# times further apart (toward the plate's corners): the dot spacing's share.
 # SOFTBENCH=path runs another build. A clip is rendered once and kept.
 # LIFT_CRF=N renders at that x264 quality instead of 10 Mb/s (CRF 4 is
 # about 116 Mb/s at 1080p), into build/bench-lift/NAME-crfN: the bit rate's
@@ -17,9 +16,10 @@
 # default (HEVC Main 10, HLG, BT.2020) at the same 10 Mb/s, into
 # build/bench-lift/NAME-hlg: the codec's share at a phone's bit rate.
 # LIFT_DISTANCE_MM=N puts the camera N mm above the dots instead of the
-# renderer's 475 (every dot on another pixel phase), into DIR-dN. The
-# *_flat plans keep every head flat: what an in-plane move alone reads as
-# lift (docs/measurement.md, "An offset on each head's lifts").
+# renderer's 475 (every dot on another pixel phase), into DIR-dN.
+# LIFT_FLAT=1 renders the plan with every head flat (no lift, no tilt), into
+# DIR-flat: what an in-plane move alone reads as lift (docs/measurement.md,
+# "An offset on each head's lifts").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 softbench=${SOFTBENCH:-./build/release/softbench}
@@ -50,10 +50,23 @@ for name in "${names[@]}"; do
     dir=$dir-d$LIFT_DISTANCE_MM
     distance=(--distance-mm "$LIFT_DISTANCE_MM")
   fi
+  plan=bench/lift_$name.plan.yaml
+  if [[ -n ${LIFT_FLAT:-} ]]; then
+    label="$label, heads flat"
+    dir=$dir-flat
+  fi
   mkdir -p "$dir"
+  if [[ -n ${LIFT_FLAT:-} ]]; then
+    flat='head_lift_mm: 0.0, head_tilt_deg: 0.0'
+    sed -E "s/head_lift_mm: [0-9.]+, head_tilt_deg: [0-9.]+/$flat/" \
+      "$plan" > "$dir/flat.plan.yaml"
+    grep -q "$flat" "$dir/flat.plan.yaml" ||
+      { echo "$plan: no 'head_lift_mm: X, head_tilt_deg: Y' to flatten" >&2; exit 2; }
+    plan=$dir/flat.plan.yaml
+  fi
   if [[ ! -f $dir/clip.mp4 ]]; then
     echo "rendering $dir/clip.mp4..." >&2
-    $softbench --quiet render --plan "bench/lift_$name.plan.yaml" \
+    $softbench --quiet render --plan "$plan" \
       --out "$dir/clip.tmp.mp4" --truth "$dir/truth.csv" \
       --plan-out "$dir/plan.yaml" --preset veryfast --resolution 1080p \
       "${quality[@]}" "${distance[@]}" --seed 27
