@@ -68,12 +68,41 @@ SimilarityResidual DotsSimilarityResidual(
   return residual;
 }
 
-std::vector<IntraJump> StillIntraJumps(const VideoMeasurement& measurement,
-                                       int h, double still_px) {
-  constexpr int kMinSide = 3, kMaxSide = 8;
-  constexpr double kMaxJumpStill = 10.0;
+double StillRangeMm(const VideoMeasurement& measurement, int h) {
+  constexpr double kScatters = 6.0;
   const std::vector<FrameSample>& frames = measurement.frames;
-  const double still_mm = still_px * measurement.mm_per_px;
+  const auto usable = [&](size_t i) {
+    const FrameSample& f = frames[i];
+    return f.registered && !f.damaged && f.heads[h].observation.complete;
+  };
+  std::array<std::vector<double>, 2> second;
+  for (size_t i = 2; i < frames.size(); ++i) {
+    if (!usable(i) || !usable(i - 1) || !usable(i - 2) ||
+        frames[i].frame != frames[i - 2].frame + 2) {
+      continue;
+    }
+    const Eigen::Vector2d d = frames[i].heads[h].displacement_mm -
+                              2.0 * frames[i - 1].heads[h].displacement_mm +
+                              frames[i - 2].heads[h].displacement_mm;
+    for (int a = 0; a < 2; ++a) second[a].push_back(std::abs(d[a]));
+  }
+  double scatter_mm = 0.0;
+  for (const std::vector<double>& values : second) {
+    if (values.empty()) continue;
+    scatter_mm = std::max(scatter_mm, 1.4826 * Median(values) / std::sqrt(6.0));
+  }
+  return std::max(kStillPx * measurement.mm_per_px, kScatters * scatter_mm);
+}
+
+std::vector<IntraJump> StillIntraJumps(const VideoMeasurement& measurement,
+                                       int h) {
+  constexpr int kMinSide = 3, kMaxSide = 8;
+  // A jump beyond 10 kStillPx is a head that stepped between two frames:
+  // the codec's levels are hundredths of a pixel, however the frames
+  // scatter about them.
+  constexpr double kMaxJumpPx = 10.0 * kStillPx;
+  const std::vector<FrameSample>& frames = measurement.frames;
+  const double still_mm = StillRangeMm(measurement, h);
   const int n = static_cast<int>(frames.size());
   // The head's positions on one side: frames i, i + step, ... while they
   // follow each other in the video, measure the head and are no other I
@@ -115,7 +144,8 @@ std::vector<IntraJump> StillIntraJumps(const VideoMeasurement& measurement,
     jump.position_mm = Eigen::Vector2d(Median(after[0]) - Median(before[0]),
                                        Median(after[1]) - Median(before[1]));
     // A head that stepped between two frames, not the codec.
-    if (jump.position_mm.cwiseAbs().maxCoeff() > kMaxJumpStill * still_mm) {
+    if (jump.position_mm.cwiseAbs().maxCoeff() >
+        kMaxJumpPx * measurement.mm_per_px) {
       continue;
     }
     const auto finite = [](const std::vector<double>& v) {
@@ -162,7 +192,7 @@ Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement,
   // The frame's level and the rest's.
   Eigen::Vector2d variance = 2.0 * codec.variance_mm2;
   // Steps between consecutive frames of a still head.
-  const double still_mm = kStillPx * measurement.mm_per_px;
+  const double still_mm = StillRangeMm(measurement, h);
   Eigen::Vector2d steps = Eigen::Vector2d::Zero();
   int num_steps = 0;
   std::optional<std::vector<Eigen::Vector2d>> first_dots;

@@ -82,13 +82,27 @@ double LayoutScaleUncertainty(const std::vector<const WindowSummary*>& windows,
 // head at rest (a settling head moves 0.03 px a frame 1 s after a 1 mm step).
 inline constexpr double kStillPx = 0.05;
 
+// How far head `h`'s positions may range over a few consecutive frames and
+// still be a head at rest [mm]: kStillPx at the measurement's scale, or,
+// where single frames scatter more than that, 6 times their scatter (8
+// frames of Gaussian noise range further once in a thousand). A phone's
+// noise and sharpening and what registration leaves of a trembling tripod
+// scatter a still head's frames by 0.02-0.05 px (`render --isp
+// --camera-tremor-px 0.1 --rolling-shutter-ms 20`), and with kStillPx alone
+// no I picture of such footage had a still head on both sides, so the
+// codec's term went unmeasured. The scatter per frame is taken robustly
+// from the second differences of consecutive positions (1.4826 times their
+// median absolute value over sqrt(6)), which a steady motion does not
+// enter and the video's moving frames, a minority, do not move.
+double StillRangeMm(const VideoMeasurement& measurement, int h);
+
 // How far head `h`'s position jumps at each I picture of `measurement`
 // around which it is still [mm]: the median of the frames from the I
 // picture on less that of the frames before it, each side 3 to 8
 // consecutive frames with the head complete, none of them
-// another I picture, and each side within `still_px` (at the
-// measurement's scale) on both axes; a jump of more than 10 `still_px` is a
-// head that moved between two frames, not the codec, and is left out.
+// another I picture, and each side within StillRangeMm on both axes; a
+// jump of more than 10 kStillPx is a head that moved between two frames,
+// not the codec, and is left out.
 // Every still I picture of the video counts where every frame was read:
 // the more states of the codec it sees, the less it depends on where the
 // I pictures fall against the windows (a plan whose period is a multiple
@@ -100,7 +114,7 @@ struct IntraJump {
   double lift_mm = NAN;
 };
 std::vector<IntraJump> StillIntraJumps(const VideoMeasurement& measurement,
-                                       int h, double still_px = kStillPx);
+                                       int h);
 
 // The codec's error in one window's position, pooled over a video's heads:
 // the variance per axis [mm^2], half the mean square of StillIntraJumps

@@ -218,6 +218,34 @@ TEST(StillIntraJumps, MeasuresTheLevelsOfAStillHeadOnly) {
   EXPECT_TRUE(StillIntraJumps(moving, 0).empty());
 }
 
+// Frames that scatter by more than kStillPx (a phone's noise, a trembling
+// tripod's residue) still show a still head's jumps at its I pictures,
+// measured at their level; a head moving a pixel a frame shows none.
+TEST(StillIntraJumps, FindsAStillHeadInNoisyFrames) {
+  const TestPlan plan = TimedDeltaPlan(4);
+  const VideoMeasurement quiet =
+      CodecLikeMeasurement(plan, 25.0, 20, 0.004, 0.0, 0.0002, 7);
+  const double floor_mm = kStillPx * quiet.mm_per_px;
+  EXPECT_DOUBLE_EQ(StillRangeMm(quiet, 0), floor_mm);
+  // 0.015 mm per dot: 0.0087 mm (0.087 px) for the head's centre a frame.
+  const VideoMeasurement noisy =
+      CodecLikeMeasurement(plan, 25.0, 20, 0.004, 0.0, 0.015, 7);
+  EXPECT_GT(StillRangeMm(noisy, 0), 3.0 * floor_mm);
+  const std::vector<IntraJump> jumps = StillIntraJumps(noisy, 0);
+  ASSERT_GE(jumps.size(), 20u);
+  double squares = 0.0;
+  for (const IntraJump& j : jumps) squares += j.position_mm.squaredNorm();
+  // The level's 0.004 mm and what the frames' noise leaves in the medians
+  // of up to 8 frames either side.
+  EXPECT_NEAR(std::sqrt(squares / jumps.size() / 4.0), 0.0055, 0.0015);
+
+  VideoMeasurement moving = noisy;
+  for (FrameSample& f : moving.frames) {
+    f.heads[0].displacement_mm.x() += moving.mm_per_px * f.frame;  // 1 px
+  }
+  EXPECT_TRUE(StillIntraJumps(moving, 0).empty());
+}
+
 // With the intrinsics' standard errors known, the budget has their term.
 TEST(UncertaintyBudget, HasTheIntrinsicsTermWhenTheirErrorsAreKnown) {
   const std::vector<Eigen::Vector2d> dots = {{0, 0}, {1, 0}, {0, 1}};
