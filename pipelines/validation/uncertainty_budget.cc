@@ -68,16 +68,22 @@ SimilarityResidual DotsSimilarityResidual(
   return residual;
 }
 
+namespace {
+
+// Whether frame `f` measured head `h`: registered, undamaged, every dot.
+bool MeasuresHead(const FrameSample& f, int h) {
+  return f.registered && !f.damaged && f.heads[h].observation.complete;
+}
+
+}  // namespace
+
 double StillRangeMm(const VideoMeasurement& measurement, int h) {
   constexpr double kScatters = 6.0;
   const std::vector<FrameSample>& frames = measurement.frames;
-  const auto usable = [&](size_t i) {
-    const FrameSample& f = frames[i];
-    return f.registered && !f.damaged && f.heads[h].observation.complete;
-  };
   std::array<std::vector<double>, 2> second;
   for (size_t i = 2; i < frames.size(); ++i) {
-    if (!usable(i) || !usable(i - 1) || !usable(i - 2) ||
+    if (!MeasuresHead(frames[i], h) || !MeasuresHead(frames[i - 1], h) ||
+        !MeasuresHead(frames[i - 2], h) ||
         frames[i].frame != frames[i - 2].frame + 2) {
       continue;
     }
@@ -113,7 +119,7 @@ std::vector<IntraJump> StillIntraJumps(const VideoMeasurement& measurement,
     for (int j = i; j >= 0 && j < n && std::abs(j - i) < kMaxSide; j += step) {
       const FrameSample& f = frames[j];
       if (f.frame != frames[i].frame + (j - i) || (j != i && f.intra) ||
-          !f.registered || f.damaged || !f.heads[h].observation.complete) {
+          !MeasuresHead(f, h)) {
         break;
       }
       values[0].push_back(f.heads[h].displacement_mm.x());
@@ -186,9 +192,6 @@ CodecLevel MeasureCodecLevel(const VideoMeasurement& measurement) {
 Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement,
                                    const CodecLevel& codec, int h) {
   const std::vector<FrameSample>& frames = measurement.frames;
-  const auto usable = [&](const FrameSample& f) {
-    return f.registered && !f.damaged && f.heads[h].observation.complete;
-  };
   // The frame's level and the rest's.
   Eigen::Vector2d variance = 2.0 * codec.variance_mm2;
   // Steps between consecutive frames of a still head.
@@ -201,8 +204,8 @@ Eigen::Vector2d FrameUncertaintyMm(const VideoMeasurement& measurement,
   std::vector<Eigen::Vector2d> dots;
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameSample& f = frames[i];
-    if (!usable(f)) continue;
-    if (i > 0 && !f.intra && usable(frames[i - 1]) &&
+    if (!MeasuresHead(f, h)) continue;
+    if (i > 0 && !f.intra && MeasuresHead(frames[i - 1], h) &&
         frames[i - 1].frame + 1 == f.frame) {
       const Eigen::Vector2d step =
           f.heads[h].displacement_mm - frames[i - 1].heads[h].displacement_mm;
